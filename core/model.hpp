@@ -1,0 +1,160 @@
+// The hybrid-system model every suite provides and every planner consumes.
+//
+// A suite writes one concrete model type satisfying the HybridModel concept (flow, guards,
+// resets, invariant, specification as inline member functions); ModelSystem<M> (system.hpp)
+// erases its type behind the small abstract System interface, so planners pay one virtual call
+// per propagation while the integrator calls the model's flow directly (no virtual call per
+// RK stage).
+//
+// Conventions (seed 002 Sect. 2, seed 000 Problem 2.2, seed 003 Def. 2):
+//  - A mode is a 64-bit id; multi-agent suites pack per-agent modes into it (ModePacking).
+//  - Guard k of mode q is a function g_k(q, x; p); the transition is enabled iff g_k > 0.
+//    Transitions are urgent: the flow stops at the first time an enabled guard appears
+//    (localized), the reset jump(q, k, x; p) is applied and gives the next mode. When several
+//    become enabled in one step the earliest wins; at equal times the lower index k wins.
+//  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
+//  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event.
+#pragma once
+#include <concepts>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace hyfal {
+
+using Mode = std::uint64_t;
+using Json = nlohmann::json;
+
+// Axis-aligned box [lo, hi] in R^n.
+struct Box {
+  std::vector<double> lo, hi;
+  std::size_t dim() const { return lo.size(); }
+  bool contains(std::span<const double> x) const {
+    for (std::size_t i = 0; i < lo.size(); ++i)
+      if (!(x[i] >= lo[i] && x[i] <= hi[i])) return false;
+    return true;
+  }
+};
+
+// Packs `agents` per-agent modes of `bits` bits each into one Mode (multi-agent suites).
+struct ModePacking {
+  int bits = 1;
+  Mode get(Mode q, int agent) const { return (q >> (agent * bits)) & ((Mode{1} << bits) - 1); }
+  Mode set(Mode q, int agent, Mode v) const {
+    const Mode mask = ((Mode{1} << bits) - 1) << (agent * bits);
+    return (q & ~mask) | ((v << (agent * bits)) & mask);
+  }
+};
+
+// The input set U_q (a box) and its user-defined discretization Ū_q (seed 003 Def. 2),
+// stored flat: input j is values[j*m .. j*m+m).
+struct InputSet {
+  Box box;
+  std::vector<double> values;
+  std::size_t dim() const { return box.dim(); }
+  std::size_t count() const { return box.dim() == 0 ? 1 : values.size() / box.dim(); }
+  std::span<const double> input(std::size_t j) const {
+    return {values.data() + j * box.dim(), box.dim()};
+  }
+  // Ū as the tensor grid with `levels` points per input dimension (endpoints included).
+  static InputSet grid(Box box, int levels);
+};
+
+enum class IntegratorKind { rk4, dopri5 };
+
+struct IntegratorSettings {
+  IntegratorKind kind = IntegratorKind::rk4;
+  double step = 0.01;        // rk4: fixed step; dopri5: initial step
+  double max_step = 0.05;    // dopri5: largest step, so that no event is stepped over
+  double abs_tol = 1e-9;     // dopri5 error control
+  double rel_tol = 1e-9;
+  double event_time_tol = 1e-12;  // width of the final bracket around an event time
+};
+
+// Compile-time model interface; see the conventions above.
+template <class M>
+concept HybridModel = requires(const M m, Mode q, int k, const double* x, double* xm,
+                               const double* u, const double* p, double* dx) {
+  { m.dim() } -> std::convertible_to<int>;
+  { m.flow(q, x, u, p, dx) };
+  { m.guard_count(q) } -> std::convertible_to<int>;
+  { m.guard(q, k, x, p) } -> std::convertible_to<double>;
+  { m.jump(q, k, xm, p) } -> std::convertible_to<Mode>;
+  { m.invariant(q, x, p) } -> std::convertible_to<bool>;
+  { m.spec(q, x, p) } -> std::convertible_to<double>;
+};
+
+// How one propagation ended.
+enum class PropagationEnd {
+  completed,  // flowed the whole duration
+  jumped,     // stopped at an urgent transition and applied its reset
+  invariant,  // stopped at the last state before the invariant failed
+  unsafe,     // reached s <= 0 (localized)
+  rejected    // NaN/Inf or a Zeno chain of zero-time jumps: the result must not enter a tree
+};
+
+struct PropagationResult {
+  PropagationEnd end = PropagationEnd::completed;
+  double duration = 0.0;  // flow time taken in the start mode
+  Mode mode = 0;          // mode after the propagation (after the reset when jumped)
+  int transition = -1;    // guard index taken, -1 when none
+  double spec = 0.0;      // s at the end state
+  std::int64_t steps = 0; // integration steps taken
+};
+
+// One thread's integrator with its own workspace (no allocation per step or propagation).
+class Propagator {
+ public:
+  virtual ~Propagator() = default;
+  // Flows (q, x) under constant u for at most `duration`; see PropagationEnd. out has dim().
+  virtual PropagationResult propagate(Mode q, std::span<const double> x,
+                                      std::span<const double> u, std::span<const double> p,
+                                      double duration, std::span<double> out) = 0;
+  // Flows in mode q for exactly `duration`, ignoring guards, invariant and spec: the pieces
+  // of a witness. Returns the number of steps, or -1 when the state became non-finite.
+  virtual std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u,
+                            std::span<const double> p, double duration, std::span<double> out) = 0;
+};
+
+// Static facts about one system instance.
+struct SystemInfo {
+  std::string suite;
+  Json instance;  // canonical instance key
+  std::vector<std::string> state_names;
+  std::vector<std::string> input_names;
+  std::vector<std::string> parameter_names;
+  Box parameter_box;                   // time-invariant parameters P (may be 0-dimensional)
+  std::vector<double> parameters;      // p used by methods that do not search over P
+  Mode initial_mode = 0;
+  std::vector<double> initial_state;
+  Box sampling_box;                    // where x_rand is drawn
+  std::vector<double> metric_weights;  // rho(x, y) = sqrt(sum w_i (x_i - y_i)^2)
+  double step_duration = 0.1;          // δt of one tree extension (seed 000 Sect. II-A)
+  IntegratorSettings integrator;
+  double witness_tolerance = 1e-6;     // validation tolerance on states and on s
+  std::size_t dim() const { return initial_state.size(); }
+};
+
+// A system instance, type-erased. Shared read-only between threads.
+class System {
+ public:
+  virtual ~System() = default;
+  virtual const SystemInfo& info() const = 0;
+  virtual const InputSet& inputs(Mode q) const = 0;
+  virtual std::string mode_name(Mode q) const { return std::to_string(q); }
+  virtual void derivative(Mode q, std::span<const double> x, std::span<const double> u,
+                          std::span<const double> p, std::span<double> dx) const = 0;
+  virtual int guard_count(Mode q) const = 0;
+  virtual double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const = 0;
+  virtual Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const = 0;
+  virtual bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const = 0;
+  virtual double spec(Mode q, std::span<const double> x, std::span<const double> p) const = 0;
+  virtual std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const = 0;
+  std::unique_ptr<Propagator> make_propagator() const { return make_propagator(info().integrator); }
+};
+
+}  // namespace hyfal

@@ -1,0 +1,91 @@
+// The Planner interface: grow a search (tree, forest, ...) until a state with s <= 0 is found,
+// the time or node budget is spent, or the trial is cancelled.
+#pragma once
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stop_token>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "core/trajectory.hpp"
+#include "core/trial_record.hpp"
+
+namespace hyfal {
+
+struct PlannerLimits {
+  double timeout_s = 60.0;
+  std::int64_t max_nodes = 1'000'000;
+};
+
+struct PlannerContext {
+  const System& system;
+  std::span<const double> parameters;  // p, for methods that do not search P
+  std::uint64_t seed = 0;
+  PlannerLimits limits;
+  std::stop_token stop;  // cooperative cancellation
+};
+
+struct PlannerCounters {
+  std::int64_t nodes = 0;
+  std::int64_t propagations = 0;
+  std::int64_t integration_steps = 0;
+};
+
+struct PlannerOutcome {
+  // falsified (a state with s <= 0 was reached; the engine validates the trajectory),
+  // not_found (the method gave up), timeout, node_cap.
+  TrialStatus status = TrialStatus::not_found;
+  PlannerCounters counters;
+  std::optional<Trajectory> trajectory;  // set when falsified
+};
+
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  virtual PlannerOutcome solve(const PlannerContext& ctx) = 0;
+};
+
+// Why a search loop must stop now, if it must: the budget checks every planner shares.
+class SearchBudget {
+ public:
+  explicit SearchBudget(const PlannerContext& ctx)
+      : ctx_(ctx), deadline_(std::chrono::steady_clock::now() +
+                             std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                 std::chrono::duration<double>(ctx.limits.timeout_s))) {}
+  // nullopt while the search may go on.
+  std::optional<TrialStatus> exhausted(std::int64_t nodes) const {
+    if (nodes >= ctx_.limits.max_nodes) return TrialStatus::node_cap;
+    if (ctx_.stop.stop_requested()) return TrialStatus::timeout;
+    if (std::chrono::steady_clock::now() >= deadline_) return TrialStatus::timeout;
+    return std::nullopt;
+  }
+
+ private:
+  const PlannerContext& ctx_;
+  std::chrono::steady_clock::time_point deadline_;
+};
+
+// A method option: key, default (its JSON type is the option's type) and help text.
+struct OptionSpec {
+  std::string key;
+  Json default_value;
+  std::string help;
+};
+
+struct MethodEntry {
+  std::string name;
+  std::string description;
+  std::vector<OptionSpec> options;
+  std::function<std::unique_ptr<Planner>(const Json& options)> make;
+};
+
+// The method registry (core/planners/registry.cpp): one line per method.
+const std::vector<MethodEntry>& all_methods();
+const MethodEntry* find_method(std::string_view name);
+
+}  // namespace hyfal

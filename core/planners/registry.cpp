@@ -1,0 +1,20 @@
+// The method registry: a new planner is one folder under core/planners/ plus one line here.
+#include "core/planner.hpp"
+#include "core/planners/rrt/rrt.hpp"
+
+namespace hyfal {
+
+const std::vector<MethodEntry>& all_methods() {
+  static const std::vector<MethodEntry> methods = {
+      rrt_method(),
+  };
+  return methods;
+}
+
+const MethodEntry* find_method(std::string_view name) {
+  for (const auto& m : all_methods())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+}  // namespace hyfal

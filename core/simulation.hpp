@@ -1,0 +1,244 @@
+// Simulation of one hybrid model: Boost.Odeint integration (fixed-step RK4 or adaptive
+// Dormand-Prince 5 with dense output), event detection by sign change of a guard within a step
+// and localization with Boost.Math toms748 (seed 002 Alg. 3).
+//
+// The model is a template parameter, so every RK stage calls M::flow directly. All buffers
+// are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <boost/math/tools/toms748_solve.hpp>
+#include <boost/numeric/odeint.hpp>
+
+#include "core/model.hpp"
+
+namespace hyfal {
+
+namespace odeint = boost::numeric::odeint;
+
+template <HybridModel M>
+class ModelPropagator final : public Propagator {
+  using State = std::vector<double>;
+
+  // The right-hand side odeint integrates: M's flow in a fixed mode under constant input.
+  struct FlowField {
+    const M* model;
+    Mode q;
+    const double* u;
+    const double* p;
+    void operator()(const State& x, State& dx, double) const {
+      model->flow(q, x.data(), u, p, dx.data());
+    }
+  };
+  using Rk4 = odeint::runge_kutta4<State>;
+  using Dopri5 = odeint::runge_kutta_dopri5<State>;
+  using Dense = odeint::dense_output_runge_kutta<odeint::controlled_runge_kutta<Dopri5>>;
+
+ public:
+  ModelPropagator(const M& model, IntegratorSettings settings)
+      : model_(model),
+        settings_(settings),
+        dense_(odeint::make_dense_output(settings.abs_tol, settings.rel_tol, settings.max_step,
+                                         Dopri5())),
+        dim_(static_cast<std::size_t>(model.dim())),
+        x0_(dim_), x1_(dim_), xt_(dim_) {
+    g0_.reserve(64);
+    g1_.reserve(64);
+  }
+
+  PropagationResult propagate(Mode q, std::span<const double> x, std::span<const double> u,
+                              std::span<const double> p, double duration,
+                              std::span<double> out) override {
+    PropagationResult r;
+    r.mode = q;
+    std::copy(x.begin(), x.end(), x0_.begin());
+    const double* pp = p.data();
+    // Already unsafe, or an urgent transition already enabled: zero-time outcome.
+    r.spec = model_.spec(q, x0_.data(), pp);
+    if (r.spec <= 0.0) {
+      r.end = PropagationEnd::unsafe;
+      std::copy(x0_.begin(), x0_.end(), out.begin());
+      return r;
+    }
+    const int nk = model_.guard_count(q);
+    g0_.resize(nk);
+    g1_.resize(nk);
+    for (int k = 0; k < nk; ++k) {
+      g0_[k] = model_.guard(q, k, x0_.data(), pp);
+      if (g0_[k] > 0.0) {
+        r.mode = model_.jump(q, k, x0_.data(), pp);
+        r.transition = k;
+        r.end = all_finite(x0_) ? PropagationEnd::jumped : PropagationEnd::rejected;
+        r.spec = model_.spec(r.mode, x0_.data(), pp);
+        std::copy(x0_.begin(), x0_.end(), out.begin());
+        return r;
+      }
+    }
+    double s0 = r.spec;
+    const FlowField field{&model_, q, u.data(), pp};
+    const double end_t = duration;
+    const double t_eps = 1e-12 * std::max(1.0, std::abs(duration));
+    double t = 0.0;
+    if (settings_.kind == IntegratorKind::dopri5) dense_.initialize(x0_, 0.0, settings_.step);
+
+    while (end_t - t > t_eps) {
+      // One step: x1_ at t1 from x0_ at t.
+      double t1;
+      if (settings_.kind == IntegratorKind::rk4) {
+        const double h = std::min(settings_.step, end_t - t);
+        rk4_.do_step(field, x0_, t, x1_, h);
+        t1 = t + h;
+      } else {
+        const auto [ta, tb] = dense_.do_step(field);
+        (void)ta;
+        if (tb >= end_t) {
+          t1 = end_t;
+          dense_.calc_state(end_t, x1_);
+        } else {
+          t1 = tb;
+          std::copy(dense_.current_state().begin(), dense_.current_state().end(), x1_.begin());
+        }
+      }
+      ++r.steps;
+      if (!all_finite(x1_)) {
+        r.end = PropagationEnd::rejected;
+        r.duration = t;
+        return r;
+      }
+      if (!model_.invariant(q, x1_.data(), pp)) {  // seed 002 Alg. 3: last valid state
+        r.end = PropagationEnd::invariant;
+        r.duration = t;
+        std::copy(x0_.begin(), x0_.end(), out.begin());
+        return r;
+      }
+      // Event detection: sign changes within (t, t1].
+      int event = kNoEvent;  // kSpecEvent, or a guard index
+      double event_hi = std::numeric_limits<double>::infinity();
+      const double s1 = model_.spec(q, x1_.data(), pp);
+      if (s0 > 0.0 && s1 <= 0.0) {
+        event = kSpecEvent;
+        event_hi = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); },
+                          -s0, -s1);
+      }
+      for (int k = 0; k < nk; ++k) {
+        g1_[k] = model_.guard(q, k, x1_.data(), pp);
+        if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
+          const double tk = locate(field, t, t1,
+                                   [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+                                   g0_[k], g1_[k]);
+          if (tk < event_hi) {  // strict: the spec, then lower k, win ties
+            event_hi = tk;
+            event = k;
+          }
+        }
+      }
+      if (event != kNoEvent) {
+        state_at(field, t, event_hi, xt_);
+        r.duration = event_hi;
+        if (event == kSpecEvent) {
+          r.end = PropagationEnd::unsafe;
+        } else {
+          r.mode = model_.jump(q, event, xt_.data(), pp);
+          r.transition = event;
+          r.end = all_finite(xt_) ? PropagationEnd::jumped : PropagationEnd::rejected;
+        }
+        r.spec = model_.spec(r.mode, xt_.data(), pp);
+        std::copy(xt_.begin(), xt_.end(), out.begin());
+        return r;
+      }
+      std::swap(x0_, x1_);
+      std::swap(g0_, g1_);
+      s0 = s1;
+      t = t1;
+    }
+    r.end = PropagationEnd::completed;
+    r.duration = duration;
+    r.spec = s0;
+    std::copy(x0_.begin(), x0_.end(), out.begin());
+    return r;
+  }
+
+  std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u,
+                    std::span<const double> p, double duration, std::span<double> out) override {
+    std::copy(x.begin(), x.end(), x0_.begin());
+    const FlowField field{&model_, q, u.data(), p.data()};
+    const double t_eps = 1e-12 * std::max(1.0, std::abs(duration));
+    std::int64_t steps = 0;
+    if (settings_.kind == IntegratorKind::rk4) {
+      double t = 0.0;
+      while (duration - t > t_eps) {
+        const double h = std::min(settings_.step, duration - t);
+        rk4_.do_step(field, x0_, t, x1_, h);
+        std::swap(x0_, x1_);
+        t += h;
+        ++steps;
+      }
+    } else if (duration > t_eps) {
+      dense_.initialize(x0_, 0.0, settings_.step);
+      while (dense_.current_time() < duration) {
+        dense_.do_step(field);
+        ++steps;
+      }
+      dense_.calc_state(duration, x0_);
+    }
+    std::copy(x0_.begin(), x0_.end(), out.begin());
+    return all_finite(x0_) ? steps : -1;
+  }
+
+ private:
+  static constexpr int kNoEvent = -2;
+  static constexpr int kSpecEvent = -1;
+
+  static bool all_finite(const State& x) {
+    for (double v : x)
+      if (!std::isfinite(v)) return false;
+    return true;
+  }
+
+  // State at time tau in the current step [t, t1]: RK4 re-steps from x0_ (a genuine RK4
+  // step of length tau - t); dopri5 uses the dense output.
+  void state_at(const FlowField& field, double t, double tau, State& xs) {
+    if (settings_.kind == IntegratorKind::rk4) {
+      if (tau <= t) {
+        std::copy(x0_.begin(), x0_.end(), xs.begin());
+        return;
+      }
+      rk4_.do_step(field, x0_, t, xs, tau - t);
+    } else {
+      dense_.calc_state(tau, xs);
+    }
+  }
+
+  // Earliest time in (t, t1] where phi(state) > 0 (phi <= 0 at t, > 0 at t1), to within
+  // event_time_tol; returns the right end of the final bracket, where phi > 0 holds.
+  template <class Phi>
+  double locate(const FlowField& field, double t, double t1, Phi phi, double phi0, double phi1) {
+    auto f = [&](double tau) {
+      state_at(field, t, tau, xt_);
+      return phi(xt_);
+    };
+    // A state exactly on the boundary at t is not yet inside: treat phi(t) as just below 0.
+    if (phi0 >= 0.0) phi0 = -std::numeric_limits<double>::min();
+    const double tol = settings_.event_time_tol;
+    auto close_enough = [tol](double a, double b) { return std::abs(b - a) <= tol; };
+    std::uintmax_t max_iter = 200;
+    const auto bracket =
+        boost::math::tools::toms748_solve(f, t, t1, phi0, phi1, close_enough, max_iter);
+    return bracket.second;
+  }
+
+  const M& model_;
+  IntegratorSettings settings_;
+  Rk4 rk4_;
+  Dense dense_;
+  std::size_t dim_;
+  State x0_, x1_, xt_;
+  std::vector<double> g0_, g1_;
+};
+
+}  // namespace hyfal

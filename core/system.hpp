@@ -1,0 +1,59 @@
+// ModelSystem<M>: the System interface over one concrete HybridModel (type erasure at the
+// granularity of a propagation, not of an RK stage).
+#pragma once
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "core/model.hpp"
+#include "core/simulation.hpp"
+
+namespace hyfal {
+
+template <class M>
+concept ModelWithInputs = HybridModel<M> && requires(const M m, Mode q) {
+  { m.inputs(q) } -> std::convertible_to<const InputSet&>;
+};
+
+template <ModelWithInputs M>
+class ModelSystem final : public System {
+ public:
+  ModelSystem(M model, SystemInfo info) : model_(std::move(model)), info_(std::move(info)) {}
+
+  const M& model() const { return model_; }
+  const SystemInfo& info() const override { return info_; }
+  const InputSet& inputs(Mode q) const override { return model_.inputs(q); }
+  std::string mode_name(Mode q) const override {
+    if constexpr (requires { model_.mode_name(q); })
+      return model_.mode_name(q);
+    else
+      return std::to_string(q);
+  }
+  void derivative(Mode q, std::span<const double> x, std::span<const double> u,
+                  std::span<const double> p, std::span<double> dx) const override {
+    model_.flow(q, x.data(), u.data(), p.data(), dx.data());
+  }
+  int guard_count(Mode q) const override { return model_.guard_count(q); }
+  double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const override {
+    return model_.guard(q, k, x.data(), p.data());
+  }
+  Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const override {
+    return model_.jump(q, k, x.data(), p.data());
+  }
+  bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const override {
+    return model_.invariant(q, x.data(), p.data());
+  }
+  double spec(Mode q, std::span<const double> x, std::span<const double> p) const override {
+    return model_.spec(q, x.data(), p.data());
+  }
+  std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const override {
+    return std::make_unique<ModelPropagator<M>>(model_, s);
+  }
+  using System::make_propagator;
+
+ private:
+  M model_;
+  SystemInfo info_;
+};
+
+}  // namespace hyfal

@@ -1,0 +1,72 @@
+// Witness trajectories: what a falsifying trial proves, in a form anyone can re-simulate.
+//
+// A piece is continuous flow in `mode` under constant `u` for `duration`; when `transition`
+// is >= 0 the urgent transition with that guard index fires at its end and its reset maps
+// x_end to the next piece's x_start (format hyfal-witness/1; see README).
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "core/tree.hpp"
+
+namespace hyfal {
+
+struct TrajectoryPiece {
+  Mode mode = 0;
+  std::vector<double> u;
+  double duration = 0.0;
+  std::vector<double> x_start, x_end;
+  int transition = -1;
+};
+
+struct Trajectory {
+  std::vector<double> parameters;
+  Mode initial_mode = 0;
+  std::vector<double> initial_x;
+  std::vector<TrajectoryPiece> pieces;
+  Mode final_mode = 0;
+  std::vector<double> final_x;
+  double final_spec = 0.0;
+};
+
+struct Witness {
+  std::string suite;
+  Json instance;
+  std::string method;
+  std::int64_t trial_seed = 0;
+  std::vector<std::string> state_names, input_names;
+  Trajectory trajectory;
+};
+
+class WitnessError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+Json to_json(const Witness& w);
+// Throws WitnessError naming the first missing or malformed field.
+Witness witness_from_json(const Json& j);
+
+// The trajectory from the root to `leaf`; x_end of each piece is re-flowed with `propagator`
+// (the tree stores post-reset states only).
+Trajectory trajectory_from_tree(const System& system, Propagator& propagator,
+                                const NodeStore& tree, NodeId leaf,
+                                std::span<const double> parameters);
+
+struct ValidationReport {
+  bool valid = false;
+  std::string reason;          // why not, or a one-line summary when valid
+  double final_spec = 0.0;     // s at the re-simulated final state
+  double max_state_error = 0.0;  // largest |re-simulated - recorded| over all checked states
+};
+
+// Re-simulates the pieces from the initial state with a tight Dormand-Prince integrator,
+// independent of the stored intermediate states: checks modes, inputs within U_q, each
+// piece's end state, that no transition became enabled inside a piece (urgency), that each
+// recorded transition is enabled at its piece's end and its reset reproduces the next
+// x_start, and that the final state has s <= tolerance.
+ValidationReport validate_witness(const System& system, const Witness& w);
+
+}  // namespace hyfal

@@ -1,0 +1,155 @@
+#include "parallel/trial_engine.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "core/rng.hpp"
+
+namespace hyfal {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Writes `text` to `path` atomically (temporary file, then rename): a reader never sees half.
+void write_file_atomically(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
+    out << text;
+    if (!out.flush()) throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
+  }
+  fs::rename(tmp, path);
+}
+
+}  // namespace
+
+int default_thread_count() { return std::max(1, tbb::info::default_concurrency()); }
+
+std::string iso8601_now() {
+  const auto now = std::chrono::system_clock::now();
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count();
+  const std::time_t secs = static_cast<std::time_t>(ms / 1000);
+  std::tm tm{};
+  gmtime_r(&secs, &tm);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1,
+                     tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<int>(ms % 1000));
+}
+
+std::string host_name() {
+  char buf[256] = {};
+  if (gethostname(buf, sizeof buf - 1) != 0) return "unknown";
+  return buf;
+}
+
+std::string witness_path(const std::string& dir, const TrialKey& key) {
+  const std::uint64_t h = splitmix64(fnv1a(key.config, fnv1a(key.instance)));
+  return (fs::path(dir) / key.experiment / key.suite / key.method /
+          fmt::format("{:016x}-t{}.json", h, key.trial_index))
+      .string();
+}
+
+TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
+  TrialRecord rec;
+  rec.key = job.key;
+  rec.seed = job.seed;
+  rec.host = options.host;
+  rec.git_commit = options.git_commit;
+  rec.started_at = iso8601_now();
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double cpu0 = thread_cpu_seconds();
+  try {
+    auto planner = job.method->make(job.method_options);
+    const SystemInfo& info = job.system->info();
+    const PlannerContext ctx{*job.system, info.parameters, static_cast<std::uint64_t>(job.seed),
+                             job.limits, options.cancel};
+    PlannerOutcome out = planner->solve(ctx);
+    rec.nodes = out.counters.nodes;
+    rec.propagations = out.counters.propagations;
+    rec.integration_steps = out.counters.integration_steps;
+    rec.status = out.status;
+    if (out.status == TrialStatus::falsified) {
+      if (!out.trajectory) throw std::logic_error("the planner reported falsified without a trajectory");
+      Witness w;
+      w.suite = job.key.suite;
+      w.instance = info.instance;
+      w.method = job.key.method;
+      w.trial_seed = job.seed;
+      w.state_names = info.state_names;
+      w.input_names = info.input_names;
+      w.trajectory = std::move(*out.trajectory);
+      const ValidationReport report = validate_witness(*job.system, w);
+      rec.validated = report.valid;
+      if (!options.witness_dir.empty()) {
+        rec.witness = witness_path(options.witness_dir, job.key);
+        write_file_atomically(rec.witness, to_json(w).dump(1) + "\n");
+      }
+      if (!report.valid) {  // a trial counts as falsified only if its witness validates
+        rec.status = TrialStatus::error;
+        rec.error = "witness failed validation: " + report.reason;
+      }
+    }
+  } catch (const std::exception& e) {
+    rec.status = TrialStatus::error;
+    rec.error = e.what();
+  } catch (...) {
+    rec.status = TrialStatus::error;
+    rec.error = "unknown exception";
+  }
+  rec.cpu_s = thread_cpu_seconds() - cpu0;
+  rec.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  rec.finished_at = iso8601_now();
+  return rec;
+}
+
+void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink) {
+  const int threads = options.threads > 0 ? options.threads : default_thread_count();
+  std::mutex sink_mutex;
+  std::size_t done = 0, falsified = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, jobs.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            TrialRecord rec = run_trial(jobs[i], options);
+            rec.threads = threads;
+            std::lock_guard lock(sink_mutex);
+            sink(rec);
+            ++done;
+            falsified += rec.status == TrialStatus::falsified;
+            if (options.progress) {
+              const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+              const double eta = el / static_cast<double>(done) * static_cast<double>(jobs.size() - done);
+              fmt::print(stderr, "\r[hyfal] {}/{} trials, {} falsified, {:.1f} s elapsed, ETA {:.1f} s   ",
+                         done, jobs.size(), falsified, el, eta);
+              if (done == jobs.size()) fmt::print(stderr, "\n");
+            }
+          }
+        },
+        tbb::simple_partitioner());
+  });
+}
+
+}  // namespace hyfal

@@ -1,0 +1,185 @@
+#include "results/table_writer.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>  // fmt::join
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <string_view>
+#include <vector>
+
+namespace hyfal {
+namespace {
+
+constexpr std::string_view kMissing = "–";
+constexpr std::string_view kAtLeast = "≥";
+
+// Times span microseconds to hours: three significant digits in fixed notation reads best, and
+// exponent notation is kept for the extremes where fixed would print a row of zeros.
+std::string format_significant(double value, int digits = 3) {
+  if (std::isnan(value)) return std::string(kMissing);
+  if (value == 0.0 || !std::isfinite(value)) return fmt::format("{}", value);
+  const double magnitude = std::abs(value);
+  if (magnitude < 1e-3 || magnitude >= 1e6) return fmt::format("{:.{}g}", value, digits);
+  int decimals = std::max(0, digits - 1 - static_cast<int>(std::floor(std::log10(magnitude))));
+  // Rounding may carry into a new leading digit (9.996 -> 10.00); drop the extra decimal.
+  if (decimals > 0 &&
+      std::round(magnitude * std::pow(10.0, decimals)) >= std::pow(10.0, digits))
+    --decimals;
+  return fmt::format("{:.{}f}", value, decimals);
+}
+
+std::string format_count(double value) {
+  if (std::isnan(value)) return std::string(kMissing);
+  return fmt::format("{:.0f}", value);
+}
+
+using NumberFormat = std::string (*)(double);
+
+std::string format_time(double value) { return format_significant(value); }
+
+// "mean ± half-width"; only the mean when the interval is unknown (fewer than two values).
+std::string format_mean_with_ci(const SampleSummary& summary, NumberFormat format) {
+  if (std::isnan(summary.mean)) return std::string(kMissing);
+  if (std::isnan(summary.ci_high)) return format(summary.mean);
+  return fmt::format("{} ± {}", format(summary.mean), format(summary.ci_high - summary.mean));
+}
+
+// A cell whose value is a lower bound of the true one gets the "≥" mark.
+std::string mark_censored(std::string cell, bool censored) {
+  if (!censored || cell == kMissing) return cell;
+  return fmt::format("{}{}", kAtLeast, cell);
+}
+
+// Markdown has no escape for a line break inside a cell, and "|" would end the cell.
+std::string markdown_cell(std::string_view text) {
+  std::string cell;
+  for (const char c : text) {
+    if (c == '|')
+      cell += "\\|";
+    else if (c == '\n' || c == '\r')
+      cell += ' ';
+    else
+      cell += c;
+  }
+  return cell;
+}
+
+std::string markdown_row(const std::vector<std::string>& cells) {
+  return fmt::format("| {} |\n", fmt::join(cells, " | "));
+}
+
+bool is_censored(const GroupSummary& group) { return group.timeouts > 0 || group.node_caps > 0; }
+
+std::string stopped_trials_cell(const GroupSummary& group) {
+  std::vector<std::string> parts;
+  if (group.timeouts > 0) parts.push_back(fmt::format("{} ⏱", group.timeouts));
+  if (group.node_caps > 0) parts.push_back(fmt::format("{} node cap", group.node_caps));
+  if (parts.empty()) return "0";
+  return fmt::format("{}", fmt::join(parts, ", "));
+}
+
+std::string csv_field(std::string_view text) {
+  if (text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
+  std::string field = "\"";
+  for (const char c : text) {
+    if (c == '"') field += '"';
+    field += c;
+  }
+  field += '"';
+  return field;
+}
+
+std::string csv_number(double value) {
+  if (std::isnan(value)) return {};
+  return fmt::format("{}", value);
+}
+
+}  // namespace
+
+std::string to_markdown(std::span<const GroupSummary> groups) {
+  const bool show_config =
+      !groups.empty() && std::any_of(groups.begin(), groups.end(), [&](const GroupSummary& group) {
+        return group.config != groups.front().config;
+      });
+
+  std::vector<std::string> header{"suite", "instance", "method"};
+  if (show_config) header.emplace_back("config");
+  for (const char* name : {"n", "falsified", "rate", "time median (s)", "time mean ± 95% CI (s)",
+                           "time std", "nodes median", "nodes mean ± 95% CI", "timeouts"})
+    header.emplace_back(name);
+
+  std::string table = markdown_row(header);
+  std::vector<std::string> separator;
+  for (std::size_t column = 0; column < header.size(); ++column)
+    separator.emplace_back(column < (show_config ? 4u : 3u) ? "---" : "--:");  // numbers right
+  table += markdown_row(separator);
+
+  bool any_censored = false;
+  for (const GroupSummary& group : groups) {
+    const bool censored = is_censored(group);
+    any_censored = any_censored || censored;
+    std::vector<std::string> row{markdown_cell(group.suite), markdown_cell(group.instance),
+                                 markdown_cell(group.method)};
+    if (show_config) row.push_back(markdown_cell(group.config));
+    row.push_back(fmt::format("{}", group.n));
+    row.push_back(fmt::format("{}", group.falsified));
+    row.push_back(fmt::format("{:.2f}", group.falsified_rate));
+    row.push_back(mark_censored(format_time(group.wall_s.median), censored));
+    row.push_back(mark_censored(format_mean_with_ci(group.wall_s, format_time), censored));
+    row.push_back(format_time(group.wall_s.stddev));
+    row.push_back(mark_censored(format_count(group.nodes.median), censored));
+    row.push_back(mark_censored(format_mean_with_ci(group.nodes, format_count), censored));
+    row.push_back(stopped_trials_cell(group));
+    table += markdown_row(row);
+  }
+
+  if (any_censored)
+    table += fmt::format(
+        "\n{} right-censored: the group has trials stopped by the time limit (⏱) or the node "
+        "cap, counted with the time and nodes they had when stopped, so the true value is at "
+        "least this.\n",
+        kAtLeast);
+  return table;
+}
+
+std::string to_csv(std::span<const GroupSummary> groups) {
+  constexpr std::string_view kLineEnd = "\r\n";
+  std::string csv =
+      "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
+      "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
+      "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high";
+  csv += kLineEnd;
+  for (const GroupSummary& group : groups) {
+    const std::vector<std::string> fields{
+        csv_field(group.suite),
+        csv_field(group.instance),
+        csv_field(group.method),
+        csv_field(group.config),
+        fmt::format("{}", group.n),
+        fmt::format("{}", group.falsified),
+        fmt::format("{}", group.validated),
+        csv_number(group.falsified_rate),
+        fmt::format("{}", group.timeouts),
+        fmt::format("{}", group.node_caps),
+        fmt::format("{}", group.not_found),
+        fmt::format("{}", group.errors),
+        csv_number(group.wall_s.mean),
+        csv_number(group.wall_s.median),
+        csv_number(group.wall_s.stddev),
+        csv_number(group.wall_s.ci_low),
+        csv_number(group.wall_s.ci_high),
+        csv_number(group.nodes.mean),
+        csv_number(group.nodes.median),
+        csv_number(group.nodes.stddev),
+        csv_number(group.nodes.ci_low),
+        csv_number(group.nodes.ci_high),
+    };
+    csv += fmt::format("{}", fmt::join(fields, ","));
+    csv += kLineEnd;
+  }
+  return csv;
+}
+
+}  // namespace hyfal

@@ -1,0 +1,18 @@
+#include "suites/registry.hpp"
+
+namespace hyfal {
+
+const std::vector<SuiteEntry>& all_suites() {
+  static const std::vector<SuiteEntry> suites = {
+      thermostat_suite(),
+  };
+  return suites;
+}
+
+const SuiteEntry* find_suite(std::string_view name) {
+  for (const auto& s : all_suites())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+}  // namespace hyfal

@@ -1,0 +1,15 @@
+// The suite registry: a new suite is one file under suites/ plus one line in registry.cpp.
+#pragma once
+#include <string_view>
+#include <vector>
+
+#include "core/suite.hpp"
+
+namespace hyfal {
+
+SuiteEntry thermostat_suite();
+
+const std::vector<SuiteEntry>& all_suites();
+const SuiteEntry* find_suite(std::string_view name);
+
+}  // namespace hyfal

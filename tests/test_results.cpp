@@ -1,0 +1,447 @@
+// Tests of results/: the SQLite trial store, the sample statistics and the table writers.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "results/statistics.hpp"
+#include "results/store.hpp"
+#include "results/table_writer.hpp"
+
+namespace hyfal {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// summarize
+
+TEST(Summarize, HandComputedSample) {
+  const std::vector<double> sample{5, 3, 1, 4, 2};  // unsorted on purpose: the median sorts
+  const SampleSummary summary = summarize(sample);
+  EXPECT_EQ(summary.n, 5u);
+  EXPECT_DOUBLE_EQ(summary.mean, 3.0);
+  EXPECT_DOUBLE_EQ(summary.median, 3.0);
+  EXPECT_NEAR(summary.stddev, 1.5811388, 1e-7);  // sqrt(10 / 4)
+  // t(0.975, 4) = 2.776445; half-width = 2.776445 * 1.5811388 / sqrt(5) = 1.963243
+  EXPECT_NEAR(summary.ci_low, 3.0 - 1.963243, 1e-6);
+  EXPECT_NEAR(summary.ci_high, 3.0 + 1.963243, 1e-6);
+  EXPECT_EQ(sample, (std::vector<double>{5, 3, 1, 4, 2}));  // the input is left untouched
+}
+
+TEST(Summarize, EvenCountMedianIsMeanOfMiddleTwo) {
+  const std::vector<double> sample{10, 1, 4, 2};
+  const SampleSummary summary = summarize(sample);
+  EXPECT_DOUBLE_EQ(summary.median, 3.0);
+  EXPECT_DOUBLE_EQ(summary.mean, 4.25);
+  // t(0.975, 1) = 12.7062047 for n = 2: the interval is wide.
+  const SampleSummary pair = summarize(std::vector<double>{1, 3});
+  EXPECT_NEAR(pair.ci_high - pair.mean, 12.7062047 * std::sqrt(2.0) / std::sqrt(2.0), 1e-6);
+}
+
+TEST(Summarize, SingleValueHasNoSpreadOrInterval) {
+  const SampleSummary summary = summarize(std::vector<double>{7.5});
+  EXPECT_EQ(summary.n, 1u);
+  EXPECT_DOUBLE_EQ(summary.mean, 7.5);
+  EXPECT_DOUBLE_EQ(summary.median, 7.5);
+  EXPECT_TRUE(std::isnan(summary.stddev));
+  EXPECT_TRUE(std::isnan(summary.ci_low));
+  EXPECT_TRUE(std::isnan(summary.ci_high));
+}
+
+TEST(Summarize, EmptySampleIsAllNaN) {
+  const SampleSummary summary = summarize(std::span<const double>{});
+  EXPECT_EQ(summary.n, 0u);
+  EXPECT_TRUE(std::isnan(summary.mean));
+  EXPECT_TRUE(std::isnan(summary.median));
+  EXPECT_TRUE(std::isnan(summary.stddev));
+  EXPECT_TRUE(std::isnan(summary.ci_low));
+  EXPECT_TRUE(std::isnan(summary.ci_high));
+}
+
+// ---------------------------------------------------------------------------------------------
+// TrialStore
+
+TrialRecord make_record(std::string method, std::int64_t trial_index,
+                        TrialStatus status = TrialStatus::falsified) {
+  TrialRecord record;
+  record.key = TrialKey{.experiment = "exp1",
+                        .suite = "arch",
+                        .instance = R"({"name":"at1","T":20})",
+                        .method = std::move(method),
+                        .config = R"({"budget":1000})",
+                        .trial_index = trial_index};
+  record.seed = 0x7fff'ffff'ffff'fc00 + trial_index;  // near the 63-bit limit on purpose
+  record.status = status;
+  record.wall_s = 1.25 + static_cast<double>(trial_index);
+  record.cpu_s = 4.5;
+  record.nodes = 1000 + trial_index;
+  return record;
+}
+
+// A temporary directory of its own for each test, removed afterwards.
+class TrialStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    directory_ = fs::temp_directory_path() /
+                 fmt::format("hyfal_test_results_{}_{}_{}", ::getpid(), test->test_suite_name(),
+                             test->name());
+    fs::remove_all(directory_);
+    fs::create_directories(directory_);
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  std::string database_path() const { return (directory_ / "results.db").string(); }
+
+  // Runs a query through a connection of its own and returns the first column of its first row.
+  std::string query_text(const std::string& path, const char* sql) const {
+    sqlite3* connection = nullptr;
+    EXPECT_EQ(sqlite3_open_v2(path.c_str(), &connection, SQLITE_OPEN_READONLY, nullptr),
+              SQLITE_OK);
+    sqlite3_stmt* statement = nullptr;
+    EXPECT_EQ(sqlite3_prepare_v2(connection, sql, -1, &statement, nullptr), SQLITE_OK)
+        << sqlite3_errmsg(connection);
+    std::string text = "<no row>";
+    if (sqlite3_step(statement) == SQLITE_ROW) {
+      const auto* chars = sqlite3_column_text(statement, 0);
+      text = chars == nullptr ? "<null>" : reinterpret_cast<const char*>(chars);
+    }
+    sqlite3_finalize(statement);
+    sqlite3_close(connection);
+    return text;
+  }
+
+  fs::path directory_;
+};
+
+void expect_same_record(const TrialRecord& actual, const TrialRecord& expected) {
+  EXPECT_EQ(actual.key, expected.key);
+  EXPECT_EQ(actual.seed, expected.seed);
+  EXPECT_EQ(actual.status, expected.status);
+  EXPECT_EQ(actual.validated, expected.validated);
+  EXPECT_DOUBLE_EQ(actual.wall_s, expected.wall_s);
+  EXPECT_DOUBLE_EQ(actual.cpu_s, expected.cpu_s);
+  EXPECT_EQ(actual.nodes, expected.nodes);
+  EXPECT_EQ(actual.propagations, expected.propagations);
+  EXPECT_EQ(actual.integration_steps, expected.integration_steps);
+  EXPECT_EQ(actual.witness, expected.witness);
+  EXPECT_EQ(actual.error, expected.error);
+  EXPECT_EQ(actual.threads, expected.threads);
+  EXPECT_EQ(actual.host, expected.host);
+  EXPECT_EQ(actual.git_commit, expected.git_commit);
+  EXPECT_EQ(actual.started_at, expected.started_at);
+  EXPECT_EQ(actual.finished_at, expected.finished_at);
+}
+
+TEST_F(TrialStoreTest, RoundTripsEveryField) {
+  TrialRecord falsified = make_record("rrt", 1);
+  falsified.validated = true;
+  falsified.propagations = 123456789012;
+  falsified.integration_steps = 987654;
+  falsified.witness = "witnesses/arch/at1/rrt-1.json";
+  falsified.threads = 16;
+  falsified.host = "node-07";
+  falsified.git_commit = "0123456789abcdef";
+  falsified.started_at = "2026-11-22T03:14:15.123Z";
+  falsified.finished_at = "2026-11-22T03:14:16.373Z";
+
+  TrialRecord failed = make_record("cma-es", 0, TrialStatus::error);
+  failed.error = "integrator diverged: step size 1e-17 at t = 3.2";
+  failed.threads = 4;
+  failed.host = "node-08";
+  failed.git_commit = "fedcba9876543210";
+  failed.started_at = "2026-11-22T04:00:00.000Z";
+  failed.finished_at = "2026-11-22T04:00:01.000Z";
+
+  auto store = TrialStore::open(database_path());
+  const std::int64_t falsified_id = store.insert(falsified);
+  const std::int64_t failed_id = store.insert(failed);
+  EXPECT_NE(falsified_id, failed_id);
+
+  const std::vector<TrialRecord> loaded = store.load();
+  ASSERT_EQ(loaded.size(), 2u);
+  // Ordered by method within the same suite and instance: "cma-es" < "rrt".
+  expect_same_record(loaded[0], failed);
+  expect_same_record(loaded[1], falsified);
+
+  // Empty witness and error are stored as NULL, not as empty text.
+  EXPECT_EQ(query_text(database_path(),
+                       "SELECT witness FROM trials WHERE method = 'cma-es'"),
+            "<null>");
+  EXPECT_EQ(query_text(database_path(), "SELECT error FROM trials WHERE method = 'rrt'"),
+            "<null>");
+  EXPECT_EQ(query_text(database_path(), "SELECT status FROM trials WHERE method = 'rrt'"),
+            "falsified");
+}
+
+TEST_F(TrialStoreTest, DuplicateKeyThrows) {
+  auto store = TrialStore::open(database_path());
+  store.insert(make_record("rrt", 3));
+  TrialRecord same_key = make_record("rrt", 3);
+  same_key.seed = 42;  // only the key decides what is a duplicate
+  EXPECT_THROW(store.insert(same_key), StoreError);
+  EXPECT_EQ(store.load().size(), 1u);
+  // The failed insert leaves the store usable.
+  EXPECT_NO_THROW(store.insert(make_record("rrt", 4)));
+  EXPECT_EQ(store.load().size(), 2u);
+}
+
+TEST_F(TrialStoreTest, StoredTrialIndicesOfOneKey) {
+  auto store = TrialStore::open(database_path());
+  for (const std::int64_t index : {5, 0, 2}) store.insert(make_record("rrt", index));
+  store.insert(make_record("cma-es", 1));
+
+  EXPECT_EQ(store.stored_trial_indices(make_record("rrt", 99).key),
+            (std::set<std::int64_t>{0, 2, 5}));
+  EXPECT_EQ(store.stored_trial_indices(make_record("cma-es", 0).key),
+            (std::set<std::int64_t>{1}));
+  TrialKey other_experiment = make_record("rrt", 0).key;
+  other_experiment.experiment = "exp2";
+  EXPECT_TRUE(store.stored_trial_indices(other_experiment).empty());
+}
+
+TEST_F(TrialStoreTest, RowsSurviveClosingAndReopening) {
+  {
+    auto store = TrialStore::open(database_path());
+    store.insert(make_record("rrt", 0));
+    TrialRecord second_experiment = make_record("rrt", 0);
+    second_experiment.key.experiment = "exp0";
+    store.insert(second_experiment);
+  }
+  auto reopened = TrialStore::open(database_path());
+  EXPECT_EQ(reopened.experiments(), (std::vector<std::string>{"exp0", "exp1"}));
+  EXPECT_EQ(reopened.load().size(), 2u);
+  const std::vector<TrialRecord> exp1 = reopened.load("exp1");
+  ASSERT_EQ(exp1.size(), 1u);
+  expect_same_record(exp1[0], make_record("rrt", 0));
+  EXPECT_TRUE(reopened.load("absent").empty());
+}
+
+TEST_F(TrialStoreTest, LoadOrdersByGroupThenTrialIndex) {
+  auto store = TrialStore::open(database_path());
+  store.insert(make_record("rrt", 2));
+  store.insert(make_record("cma-es", 1));
+  store.insert(make_record("rrt", 0));
+  store.insert(make_record("cma-es", 0));
+  std::vector<std::pair<std::string, std::int64_t>> order;
+  for (const TrialRecord& record : store.load())
+    order.emplace_back(record.key.method, record.key.trial_index);
+  EXPECT_EQ(order, (std::vector<std::pair<std::string, std::int64_t>>{
+                       {"cma-es", 0}, {"cma-es", 1}, {"rrt", 0}, {"rrt", 2}}));
+}
+
+TEST_F(TrialStoreTest, MovedStoreKeepsWorking) {
+  auto first = TrialStore::open(database_path());
+  first.insert(make_record("rrt", 0));
+  TrialStore moved = std::move(first);
+  moved.insert(make_record("rrt", 1));
+  auto other = TrialStore::open((directory_ / "other.db").string());
+  other = std::move(moved);  // closes other.db, takes over results.db
+  EXPECT_EQ(other.load().size(), 2u);
+  EXPECT_EQ(other.path(), database_path());
+}
+
+TEST_F(TrialStoreTest, CreatesMissingParentDirectories) {
+  const std::string nested = (directory_ / "a" / "b" / "results.db").string();
+  auto store = TrialStore::open(nested);
+  store.insert(make_record("rrt", 0));
+  EXPECT_TRUE(fs::is_regular_file(nested));
+}
+
+TEST_F(TrialStoreTest, TextFileIsNotADatabase) {
+  const std::string path = (directory_ / "notes.txt").string();
+  std::ofstream(path) << "these are notes, not a SQLite database\n"
+                      << std::string(2000, 'x') << "\n";
+  try {
+    TrialStore::open(path);
+    FAIL() << "opening a text file did not throw";
+  } catch (const StoreError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("cannot open results database '" + path + "'"), std::string::npos)
+        << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+  }
+}
+
+TEST_F(TrialStoreTest, DirectoryIsNotADatabase) {
+  const std::string path = (directory_ / "a_directory").string();
+  fs::create_directories(path);
+  try {
+    TrialStore::open(path);
+    FAIL() << "opening a directory did not throw";
+  } catch (const StoreError& error) {
+    EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(TrialStoreTest, UsesWalAndRecordsSchemaVersion) {
+  auto store = TrialStore::open(database_path());
+  EXPECT_EQ(query_text(database_path(), "PRAGMA journal_mode"), "wal");
+  EXPECT_EQ(query_text(database_path(), "SELECT value FROM meta WHERE key = 'schema_version'"),
+            "1");
+}
+
+TEST_F(TrialStoreTest, StoresSeriesOfATrial) {
+  auto store = TrialStore::open(database_path());
+  const std::int64_t trial_id = store.insert(make_record("rrt", 0));
+  const std::vector<std::pair<double, double>> coverage{{0, 0.0}, {100, 0.25}, {200, 0.5}};
+  store.insert_series(trial_id, "coverage", coverage);
+  EXPECT_EQ(query_text(database_path(),
+                       "SELECT count(*) || ':' || sum(y) FROM series WHERE name = 'coverage'"),
+            "3:0.75");
+  // A series of a trial that does not exist is refused, and none of its points is kept.
+  EXPECT_THROW(store.insert_series(trial_id + 1000, "coverage", coverage), StoreError);
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM series"), "3");
+}
+
+// ---------------------------------------------------------------------------------------------
+// summarize_trials
+
+TEST(SummarizeTrials, GroupsInFirstAppearanceOrderAndCounts) {
+  std::vector<TrialRecord> trials;
+  auto add = [&](std::string method, std::int64_t index, TrialStatus status, double wall_s,
+                 bool validated = false) {
+    TrialRecord record = make_record(std::move(method), index, status);
+    record.wall_s = wall_s;
+    record.nodes = static_cast<std::int64_t>(wall_s * 100);
+    record.validated = validated;
+    trials.push_back(record);
+  };
+  add("rrt", 0, TrialStatus::falsified, 1.0, true);
+  add("cma-es", 0, TrialStatus::not_found, 9.0);
+  add("rrt", 1, TrialStatus::timeout, 10.0);
+  add("rrt", 2, TrialStatus::error, 1000.0);  // excluded from the time and nodes statistics
+  add("rrt", 3, TrialStatus::falsified, 4.0, true);
+  add("rrt", 4, TrialStatus::node_cap, 7.0);
+
+  const std::vector<GroupSummary> groups = summarize_trials(trials);
+  ASSERT_EQ(groups.size(), 2u);
+  const GroupSummary& rrt = groups[0];
+  EXPECT_EQ(rrt.method, "rrt");
+  EXPECT_EQ(rrt.suite, "arch");
+  EXPECT_EQ(rrt.instance, R"({"name":"at1","T":20})");
+  EXPECT_EQ(rrt.config, R"({"budget":1000})");
+  EXPECT_EQ(rrt.n, 5u);
+  EXPECT_EQ(rrt.falsified, 2u);
+  EXPECT_EQ(rrt.validated, 2u);
+  EXPECT_EQ(rrt.timeouts, 1u);
+  EXPECT_EQ(rrt.node_caps, 1u);
+  EXPECT_EQ(rrt.not_found, 0u);
+  EXPECT_EQ(rrt.errors, 1u);
+  EXPECT_DOUBLE_EQ(rrt.falsified_rate, 0.4);
+  EXPECT_EQ(rrt.wall_s.n, 4u);
+  EXPECT_DOUBLE_EQ(rrt.wall_s.mean, (1.0 + 10.0 + 4.0 + 7.0) / 4);
+  EXPECT_DOUBLE_EQ(rrt.wall_s.median, 5.5);
+  EXPECT_EQ(rrt.nodes.n, 4u);
+  EXPECT_DOUBLE_EQ(rrt.nodes.median, 550.0);
+
+  const GroupSummary& cma_es = groups[1];
+  EXPECT_EQ(cma_es.method, "cma-es");
+  EXPECT_EQ(cma_es.n, 1u);
+  EXPECT_EQ(cma_es.not_found, 1u);
+  EXPECT_DOUBLE_EQ(cma_es.falsified_rate, 0.0);
+  EXPECT_DOUBLE_EQ(cma_es.wall_s.mean, 9.0);
+  EXPECT_TRUE(std::isnan(cma_es.wall_s.stddev));
+}
+
+TEST(SummarizeTrials, ConfigSeparatesGroups) {
+  TrialRecord small = make_record("rrt", 0);
+  TrialRecord large = make_record("rrt", 0);
+  large.key.config = R"({"budget":5000})";
+  const std::vector<TrialRecord> trials{small, large, small};
+  const std::vector<GroupSummary> groups = summarize_trials(trials);
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].n, 2u);
+  EXPECT_EQ(groups[1].config, R"({"budget":5000})");
+}
+
+// ---------------------------------------------------------------------------------------------
+// table writers
+
+std::vector<GroupSummary> summarize_statuses(const std::vector<TrialStatus>& statuses) {
+  std::vector<TrialRecord> trials;
+  for (std::size_t index = 0; index < statuses.size(); ++index)
+    trials.push_back(make_record("rrt", static_cast<std::int64_t>(index), statuses[index]));
+  return summarize_trials(trials);
+}
+
+TEST(ToMarkdown, MarksCensoredGroupsOnly) {
+  using enum TrialStatus;
+  const std::string uncensored = to_markdown(summarize_statuses({falsified, falsified, not_found}));
+  EXPECT_EQ(uncensored.find("≥"), std::string::npos) << uncensored;
+  EXPECT_EQ(uncensored.find("⏱"), std::string::npos) << uncensored;
+
+  const std::string censored =
+      to_markdown(summarize_statuses({falsified, timeout, timeout, timeout}));
+  // Time and nodes medians and means are marked; the standard deviation is not a bound.
+  // wall_s 1.25, 2.25, 3.25, 4.25: median and mean 2.75, std 1.29; nodes 1000..1003.
+  EXPECT_NE(censored.find("| ≥2.75 | ≥2.75 ± "), std::string::npos) << censored;
+  EXPECT_NE(censored.find(" | 1.29 | ≥100"), std::string::npos) << censored;
+  EXPECT_NE(censored.find("| 3 ⏱ |"), std::string::npos) << censored;
+  // The footnote explaining the mark follows the table.
+  EXPECT_NE(censored.find("\n≥ "), std::string::npos) << censored;
+
+  EXPECT_NE(to_markdown(summarize_statuses({falsified, node_cap})).find("≥"), std::string::npos);
+}
+
+TEST(ToMarkdown, HeaderAndConfigColumn) {
+  const std::vector<GroupSummary> one_config = summarize_statuses({TrialStatus::falsified});
+  const std::string table = to_markdown(one_config);
+  EXPECT_EQ(table.substr(0, table.find('\n')),
+            "| suite | instance | method | n | falsified | rate | time median (s) | "
+            "time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | timeouts |");
+
+  std::vector<GroupSummary> two_configs = one_config;
+  two_configs.push_back(one_config.front());
+  two_configs.back().config = R"({"budget":5000})";
+  const std::string with_config = to_markdown(two_configs);
+  EXPECT_NE(with_config.find("| method | config | n |"), std::string::npos) << with_config;
+  EXPECT_NE(with_config.find(R"(| {"budget":5000} |)"), std::string::npos) << with_config;
+}
+
+TEST(ToMarkdown, FormatsTimesWithoutExponentAndNodesAsIntegers) {
+  std::vector<TrialRecord> trials;
+  for (const double wall_s : {0.0123, 0.0125}) {
+    TrialRecord record = make_record("rrt", static_cast<std::int64_t>(trials.size()));
+    record.wall_s = wall_s;
+    record.nodes = trials.empty() ? 1000 : 1002;
+    trials.push_back(record);
+  }
+  const std::string table = to_markdown(summarize_trials(trials));
+  EXPECT_NE(table.find("| 0.0124 |"), std::string::npos) << table;   // time median
+  EXPECT_NE(table.find("| 1001 |"), std::string::npos) << table;     // nodes median
+  EXPECT_EQ(table.find("e-"), std::string::npos) << table;
+}
+
+TEST(ToCsv, HeaderQuotingAndEmptyNaN) {
+  std::vector<GroupSummary> groups = summarize_statuses({TrialStatus::falsified});
+  groups[0].instance = R"(at1, "fast")";
+  const std::string csv = to_csv(groups);
+  const std::string header =
+      "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
+      "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
+      "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high\r\n";
+  ASSERT_EQ(csv.substr(0, header.size()), header);
+  // One trial: std and CI are NaN, written as empty fields.
+  EXPECT_EQ(csv.substr(header.size()),
+            "arch,\"at1, \"\"fast\"\"\",rrt,\"{\"\"budget\"\":1000}\",1,1,0,1,0,0,0,0,"
+            "1.25,1.25,,,,1000,1000,,,\r\n");
+}
+
+TEST(ToCsv, FullPrecisionNumbers) {
+  std::vector<GroupSummary> groups = summarize_statuses(
+      {TrialStatus::falsified, TrialStatus::not_found, TrialStatus::not_found});
+  const std::string csv = to_csv(groups);
+  EXPECT_NE(csv.find(",0.3333333333333333,"), std::string::npos) << csv;  // falsified_rate
+}
+
+}  // namespace
+}  // namespace hyfal
