@@ -9,8 +9,9 @@
 // Conventions (seed 002 Sect. 2, seed 000 Problem 2.2, seed 003 Def. 2):
 //  - A mode is a 64-bit id; multi-agent suites pack per-agent modes into it (ModePacking).
 //  - Guard k of mode q is a function g_k(q, x; p); the transition is enabled iff g_k > 0.
-//    Transitions are urgent: the flow stops at the first time an enabled guard appears
-//    (localized), the reset jump(q, k, x; p) is applied and gives the next mode. When several
+//    Transitions are urgent: the flow stops when a guard turns positive (localized to within
+//    event_time_tol, at the last time before it does), the reset jump(q, k, x; p) is applied
+//    and gives the next mode. A guard already positive at the start fires at once. When several
 //    become enabled in one step the earliest wins; at equal times the lower index k wins.
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event.

@@ -40,6 +40,8 @@ class ModelPropagator final : public Propagator {
   using Dense = odeint::dense_output_runge_kutta<odeint::controlled_runge_kutta<Dopri5>>;
 
  public:
+  // The propagator refers to `model`, which must outlive it (ModelSystem owns both).
+  ModelPropagator(const M&& model, IntegratorSettings settings) = delete;
   ModelPropagator(const M& model, IntegratorSettings settings)
       : model_(model),
         settings_(settings),
@@ -118,28 +120,28 @@ class ModelPropagator final : public Propagator {
       }
       // Event detection: sign changes within (t, t1].
       int event = kNoEvent;  // kSpecEvent, or a guard index
-      double event_hi = std::numeric_limits<double>::infinity();
+      double event_t = std::numeric_limits<double>::infinity();
       const double s1 = model_.spec(q, x1_.data(), pp);
       if (s0 > 0.0 && s1 <= 0.0) {
         event = kSpecEvent;
-        event_hi = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); },
-                          -s0, -s1);
+        event_t = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); },
+                         -s0, -s1).second;
       }
       for (int k = 0; k < nk; ++k) {
         g1_[k] = model_.guard(q, k, x1_.data(), pp);
         if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
           const double tk = locate(field, t, t1,
                                    [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
-                                   g0_[k], g1_[k]);
-          if (tk < event_hi) {  // strict: the spec, then lower k, win ties
-            event_hi = tk;
+                                   g0_[k], g1_[k]).first;
+          if (tk < event_t) {  // strict: the spec, then lower k, win ties
+            event_t = tk;
             event = k;
           }
         }
       }
       if (event != kNoEvent) {
-        state_at(field, t, event_hi, xt_);
-        r.duration = event_hi;
+        state_at(field, t, event_t, xt_);
+        r.duration = event_t;
         if (event == kSpecEvent) {
           r.end = PropagationEnd::unsafe;
         } else {
@@ -214,10 +216,12 @@ class ModelPropagator final : public Propagator {
     }
   }
 
-  // Earliest time in (t, t1] where phi(state) > 0 (phi <= 0 at t, > 0 at t1), to within
-  // event_time_tol; returns the right end of the final bracket, where phi > 0 holds.
+  // Brackets the earliest time in (t, t1] where phi(state) turns > 0 (phi <= 0 at t, > 0 at
+  // t1) to within event_time_tol. A transition is taken at the left end (phi <= 0: the reset
+  // state does not start inside the guard it just crossed, so it cannot re-fire at once); the
+  // unsafe set is entered at the right end (phi = -s >= 0: the end state really is unsafe).
   template <class Phi>
-  double locate(const FlowField& field, double t, double t1, Phi phi, double phi0, double phi1) {
+  std::pair<double, double> locate(const FlowField& field, double t, double t1, Phi phi, double phi0, double phi1) {
     auto f = [&](double tau) {
       state_at(field, t, tau, xt_);
       return phi(xt_);
@@ -229,7 +233,7 @@ class ModelPropagator final : public Propagator {
     std::uintmax_t max_iter = 200;
     const auto bracket =
         boost::math::tools::toms748_solve(f, t, t1, phi0, phi1, close_enough, max_iter);
-    return bracket.second;
+    return bracket;
   }
 
   const M& model_;

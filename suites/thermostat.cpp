@@ -7,9 +7,10 @@
 //   unsafe S = {2/3 x2 - x3 <= 0 and -x2 + 2 <= 0}: after two minutes the heater has been on
 //   for at least two thirds of the time.  s(x) = max(2/3 x2 - x3, 2 - x2) (s <= 0 iff in S).
 //
-// The only counterexamples heat at the slowest rate and cool at the fastest: on for 0.5 min
-// (2 -> 3 at rate 2), off for 2/3 min (3 -> 1 at rate -3), then on at rate ~2 until
-// x2 in [2, 2.1667]; later the on-fraction stays below 2/3.
+// The counterexamples are narrow: heat slowly and cool fast. The first on-phase lasts at most
+// 0.5 min (2 -> 3 at rate 2), the off-phase at least 2/3 min (3 -> 1 at rate -3), the second
+// on-phase at most 1 min, so x3 <= 1.5 at its end, and x3 >= 2/3 x2 needs x2 in [2, 2.25];
+// from the third on-phase on, the on-fraction stays below 2/3.
 //
 // Choices the paper leaves open (kept here, in one place):
 //  - δt = 0.1 min per extension; Ū = 5 evenly spaced rates per mode (endpoints included, so the

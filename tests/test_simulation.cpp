@@ -1,0 +1,259 @@
+// Simulation: integration accuracy, event detection and localization, invariants, NaN
+// rejection, and no heap allocation per propagation.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+
+#include "core/options.hpp"
+#include "core/system.hpp"
+#include "suites/registry.hpp"
+
+// Counts heap allocations in this test binary (to prove propagations allocate nothing).
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace hyfal {
+namespace {
+
+// x' = -x (one mode, no guards): x(t) = x0 e^{-t}.
+struct Decay {
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 1; }
+  void flow(Mode, const double* x, const double*, const double*, double* dx) const { dx[0] = -x[0]; }
+  int guard_count(Mode) const { return 0; }
+  double guard(Mode, int, const double*, const double*) const { return -1; }
+  Mode jump(Mode q, int, double*, const double*) const { return q; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double* x, const double*) const { return x[0] + 1.0; }  // never unsafe
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+// Bouncing ball: h' = v, v' = -g; impact when h < 0 (guard -h > 0), reset v <- -e v.
+struct Ball {
+  static constexpr double g = 9.81, e = 0.8;
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 2; }
+  void flow(Mode, const double* x, const double*, const double*, double* dx) const {
+    dx[0] = x[1];
+    dx[1] = -g;
+  }
+  int guard_count(Mode) const { return 1; }
+  double guard(Mode, int, const double* x, const double*) const { return -x[0]; }
+  Mode jump(Mode q, int, double* x, const double*) const {
+    x[1] = -e * x[1];
+    return q + 1;  // count bounces in the mode id
+  }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double*, const double*) const { return 1.0; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+// x' = u; two guards (x > a0, x > a1) and an unsafe set x >= s_at; u[0] = 7 yields NaN.
+struct Ramp {
+  double a0 = 0.5, a1 = 0.5, s_at = 10.0;
+  InputSet u = InputSet::grid({{-10.0}, {10.0}}, 3);
+  int dim() const { return 1; }
+  void flow(Mode, const double*, const double* u, const double*, double* dx) const {
+    dx[0] = u[0] == 7.0 ? std::numeric_limits<double>::quiet_NaN() : u[0];
+  }
+  int guard_count(Mode) const { return 2; }
+  double guard(Mode, int k, const double* x, const double*) const { return x[0] - (k == 0 ? a0 : a1); }
+  Mode jump(Mode, int k, double*, const double*) const { return 10 + k; }
+  bool invariant(Mode, const double* x, const double*) const { return x[0] > -5.0; }
+  double spec(Mode, const double* x, const double*) const { return s_at - x[0]; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+IntegratorSettings rk4(double h) {
+  IntegratorSettings s;
+  s.kind = IntegratorKind::rk4;
+  s.step = h;
+  return s;
+}
+IntegratorSettings dopri5(double tol, double max_step = 0.05) {
+  IntegratorSettings s;
+  s.kind = IntegratorKind::dopri5;
+  s.abs_tol = s.rel_tol = tol;
+  s.max_step = max_step;
+  s.step = max_step / 4;
+  return s;
+}
+
+const double kNoP[1] = {0.0};
+const double kNoU[1] = {0.0};
+
+TEST(Integration, Rk4MatchesClosedForm) {
+  const Decay m;
+  ModelPropagator<Decay> prop(m, rk4(0.01));
+  double x0[1] = {2.0}, x1[1];
+  const auto r = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+  EXPECT_EQ(r.end, PropagationEnd::completed);
+  EXPECT_EQ(r.steps, 100);
+  EXPECT_NEAR(x1[0], 2.0 * std::exp(-1.0), 1e-9);  // RK4 global error ~ h^4
+}
+
+TEST(Integration, Dopri5MatchesClosedForm) {
+  const Decay m;
+  ModelPropagator<Decay> prop(m, dopri5(1e-11));
+  double x0[1] = {2.0}, x1[1];
+  prop.propagate(0, x0, kNoU, kNoP, 3.0, x1);
+  EXPECT_NEAR(x1[0], 2.0 * std::exp(-3.0), 1e-9);
+  double x2[1];
+  EXPECT_GE(prop.flow(0, x0, kNoU, kNoP, 3.0, x2), 1);
+  EXPECT_NEAR(x2[0], 2.0 * std::exp(-3.0), 1e-9);
+}
+
+TEST(Events, BouncingBallImpactTimeRk4AndDopri5) {
+  const double h0 = 10.0, t_impact = std::sqrt(2.0 * h0 / Ball::g);
+  for (const auto& s : {rk4(0.01), dopri5(1e-12)}) {
+    const Ball ball;
+    ModelPropagator<Ball> prop(ball, s);
+    double x0[2] = {h0, 0.0}, x1[2];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 3.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::jumped);
+    EXPECT_EQ(r.mode, 1u);
+    EXPECT_EQ(r.transition, 0);
+    EXPECT_NEAR(r.duration, t_impact, 1e-9);
+    EXPECT_NEAR(x1[0], 0.0, 1e-9);
+    EXPECT_GE(x1[0], 0.0);  // taken just before the guard -h turns positive
+    EXPECT_NEAR(x1[1], Ball::e * Ball::g * t_impact, 1e-7);  // reset applied: upward speed
+    // The second flight lasts 2 v / g.
+    double x2[2];
+    const auto r2 = prop.propagate(r.mode, x1, kNoU, kNoP, 5.0, x2);
+    ASSERT_EQ(r2.end, PropagationEnd::jumped);
+    EXPECT_NEAR(r2.duration, 2.0 * x1[1] / Ball::g, 1e-9);
+  }
+}
+
+std::shared_ptr<const System> thermostat() {
+  const SuiteEntry* s = find_suite("thermostat");
+  return s->make(resolve_options(s->parameters, {}));
+}
+
+TEST(Events, ThermostatSwitchTimesAreExact) {
+  auto sys = thermostat();
+  auto prop = sys->make_propagator();
+  const double x0[3] = {2.0, 0.0, 0.0};
+  double x1[3];
+  const double heat[1] = {2.0};
+  const auto r = prop->propagate(1, x0, heat, {}, 1.0, x1);  // on, rate 2: 2 -> 3 in 0.5 min
+  ASSERT_EQ(r.end, PropagationEnd::jumped);
+  EXPECT_EQ(sys->mode_name(r.mode), "off");
+  EXPECT_NEAR(r.duration, 0.5, 1e-12);
+  EXPECT_NEAR(x1[0], 3.0, 1e-12);
+  EXPECT_NEAR(x1[1], 0.5, 1e-12);
+  EXPECT_NEAR(x1[2], 0.5, 1e-12);
+  double x2[3];
+  const double cool[1] = {-3.0};
+  const auto r2 = prop->propagate(r.mode, x1, cool, {}, 1.0, x2);  // off, rate -3: 3 -> 1 in 2/3
+  ASSERT_EQ(r2.end, PropagationEnd::jumped);
+  EXPECT_EQ(sys->mode_name(r2.mode), "on");
+  EXPECT_NEAR(r2.duration, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(x2[2], 0.5, 1e-12);  // heater time frozen while off
+}
+
+TEST(Events, InvariantViolationReturnsLastValidState) {
+  auto sys = thermostat();
+  auto prop = sys->make_propagator();
+  const double x0[3] = {2.0, 59.85, 10.0};  // the hour ends inside the second step
+  double x1[3];
+  const double heat[1] = {2.0};
+  const auto r = prop->propagate(1, x0, heat, {}, 0.3, x1);
+  EXPECT_EQ(r.end, PropagationEnd::invariant);
+  EXPECT_NEAR(r.duration, 0.1, 1e-12);
+  EXPECT_NEAR(x1[1], 59.95, 1e-9);
+  EXPECT_LE(x1[1], 60.0);
+}
+
+TEST(Events, UnsafeCrossingIsLocalizedInsideTheUnsafeSet) {
+  Ramp m;
+  m.a0 = m.a1 = 100.0;
+  m.s_at = 0.537;
+  ModelPropagator<Ramp> prop(m, rk4(0.1));
+  double x0[1] = {0.0}, x1[1];
+  const double u[1] = {1.0};
+  const auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
+  ASSERT_EQ(r.end, PropagationEnd::unsafe);
+  EXPECT_NEAR(r.duration, 0.537, 1e-11);
+  EXPECT_LE(r.spec, 0.0);
+}
+
+TEST(Events, EarliestGuardWinsThenLowerIndex) {
+  Ramp m;
+  m.a0 = 0.7;
+  m.a1 = 0.3;  // guard 1 fires first
+  ModelPropagator<Ramp> prop(m, rk4(0.5));
+  double x0[1] = {0.0}, x1[1];
+  const double u[1] = {1.0};
+  auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
+  EXPECT_EQ(r.transition, 1);
+  EXPECT_EQ(r.mode, 11u);
+  EXPECT_NEAR(r.duration, 0.3, 1e-11);
+  m.a0 = m.a1 = 0.3;  // simultaneous: priority to the lower index
+  ModelPropagator<Ramp> prop2(m, rk4(0.5));
+  r = prop2.propagate(0, x0, u, kNoP, 2.0, x1);
+  EXPECT_EQ(r.transition, 0);
+  EXPECT_EQ(r.mode, 10u);
+}
+
+TEST(Events, GuardEnabledAtStartJumpsAtOnce) {
+  Ramp m;
+  m.a0 = m.a1 = -1.0;  // x = 0 already satisfies x > -1
+  ModelPropagator<Ramp> prop(m, rk4(0.1));
+  double x0[1] = {0.0}, x1[1];
+  const double u[1] = {1.0};
+  const auto r = prop.propagate(0, x0, u, kNoP, 1.0, x1);
+  EXPECT_EQ(r.end, PropagationEnd::jumped);
+  EXPECT_EQ(r.duration, 0.0);
+  EXPECT_EQ(r.steps, 0);
+}
+
+TEST(Events, NonFiniteStateIsRejected) {
+  const Ramp m;
+  ModelPropagator<Ramp> prop(m, rk4(0.1));
+  double x0[1] = {0.0}, x1[1];
+  const double u[1] = {7.0};  // the flow returns NaN
+  EXPECT_EQ(prop.propagate(0, x0, u, kNoP, 1.0, x1).end, PropagationEnd::rejected);
+  ModelPropagator<Ramp> dp(m, dopri5(1e-8));
+  EXPECT_EQ(dp.propagate(0, x0, u, kNoP, 1.0, x1).end, PropagationEnd::rejected);
+}
+
+TEST(Allocation, PropagationsAllocateNothing) {
+  for (const auto& s : {rk4(0.01), dopri5(1e-9)}) {
+    const Ball ball;
+    ModelPropagator<Ball> prop(ball, s);
+    double x0[2] = {10.0, 0.0}, x1[2];
+    prop.propagate(0, x0, kNoU, kNoP, 3.0, x1);  // warm-up sizes the workspace
+    prop.flow(0, x0, kNoU, kNoP, 1.0, x1);
+    const long before = g_allocations.load();
+    for (int i = 0; i < 100; ++i) {
+      prop.propagate(0, x0, kNoU, kNoP, 3.0, x1);  // includes an event localization
+      prop.flow(0, x0, kNoU, kNoP, 1.0, x1);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << (s.kind == IntegratorKind::rk4 ? "rk4" : "dopri5");
+  }
+}
+
+TEST(Inputs, GridHasEndpointsAndAllCombinations) {
+  const InputSet s = InputSet::grid({{-1.0, 0.0}, {1.0, 4.0}}, 3);
+  ASSERT_EQ(s.count(), 9u);
+  EXPECT_EQ(s.input(0)[0], -1.0);
+  EXPECT_EQ(s.input(0)[1], 0.0);
+  EXPECT_EQ(s.input(8)[0], 1.0);
+  EXPECT_EQ(s.input(8)[1], 4.0);
+  EXPECT_EQ(s.input(4)[0], 0.0);
+  EXPECT_EQ(s.input(4)[1], 2.0);
+}
+
+}  // namespace
+}  // namespace hyfal
