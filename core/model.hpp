@@ -121,6 +121,14 @@ class Propagator {
                             std::span<const double> p, double duration, std::span<double> out) = 0;
 };
 
+// The grid G of the coverage measure c(T, G) (seed 000 eq. II.1, seed 003 eq. 3): spacing δx
+// over `box`, in the projection of the state onto `dims` (all dimensions when empty).
+struct CoverageSpec {
+  std::vector<int> dims;
+  Box box;
+  double spacing = 0.0;  // 0: the suite defines no coverage grid
+};
+
 // Static facts about one system instance.
 struct SystemInfo {
   std::string suite;
@@ -132,8 +140,13 @@ struct SystemInfo {
   std::vector<double> parameters;      // p used by methods that do not search over P
   Mode initial_mode = 0;
   std::vector<double> initial_state;
+  // Further initial states (same mode): planners grow one tree per initial state (a forest, as
+  // seed 000 Fig. 12); a witness may start from any of them.
+  std::vector<std::vector<double>> other_initial_states;
   Box sampling_box;                    // where x_rand is drawn
   std::vector<double> metric_weights;  // rho(x, y) = sqrt(sum w_i (x_i - y_i)^2)
+  std::vector<double> goal_point;      // µ of the biased sampler, a point with s <= 0 (seed 000 III.6)
+  CoverageSpec coverage;
   double step_duration = 0.1;          // δt of one tree extension (seed 000 Sect. II-A)
   IntegratorSettings integrator;
   double witness_tolerance = 1e-6;     // validation tolerance on states and on s
@@ -149,6 +162,10 @@ class System {
   virtual std::string mode_name(Mode q) const { return std::to_string(q); }
   virtual void derivative(Mode q, std::span<const double> x, std::span<const double> u,
                           std::span<const double> p, std::span<double> dx) const = 0;
+  // True when f(q, x, u; p) is affine in u (then max over a box of a linear form of f has a
+  // closed form, seed 000 Sect. III-A). A model declares it with `static constexpr bool
+  // input_affine = true;`.
+  virtual bool input_affine(Mode q) const { return false; }
   virtual int guard_count(Mode q) const = 0;
   virtual double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const = 0;
   virtual Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const = 0;

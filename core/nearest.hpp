@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -47,14 +48,13 @@ struct Neighbor {
 class NearestNeighbors {
  public:
   explicit NearestNeighbors(const WeightedEuclidean& metric)
-      : metric_(metric), points_(metric.dim()), query_(metric.dim()),
-        index_(static_cast<int>(metric.dim()), points_, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+      : metric_(metric), points_(metric.dim()), query_(metric.dim()), index_(make_index(metric.dim(), points_)) {}
 
   // Adds node `id` (ids must be added densely in order 0, 1, 2, ...).
   void add(NodeId id, std::span<const double> x) {
     const std::size_t i = points_.rows.push_back();
     metric_.project(x, points_.rows.row(i));
-    index_.addPoints(id, id);
+    index_->add(id);
   }
   std::size_t size() const { return points_.rows.size(); }
 
@@ -68,10 +68,7 @@ class NearestNeighbors {
     metric_.project(x, query_);
     ids_.resize(out.size());
     d2_.resize(out.size());
-    nanoflann::KNNResultSet<double, std::uint32_t> result(out.size());
-    result.init(ids_.data(), d2_.data());
-    index_.findNeighbors(result, query_.data(), nanoflann::SearchParams());
-    const std::size_t found = result.size();
+    const std::size_t found = index_->knn(query_.data(), out.size(), ids_.data(), d2_.data());
     for (std::size_t i = 0; i < found; ++i) out[i] = {ids_[i], std::sqrt(d2_[i])};
     return found;
   }
@@ -85,15 +82,49 @@ class NearestNeighbors {
     template <class BBox>
     bool kdtree_get_bbox(BBox&) const { return false; }
   };
-  using Index = nanoflann::KDTreeSingleIndexDynamicAdaptor<
-      nanoflann::L2_Simple_Adaptor<double, Points>, Points, -1, std::uint32_t>;
+
+  struct Index {
+    virtual ~Index() = default;
+    virtual void add(NodeId id) = 0;
+    virtual std::size_t knn(const double* q, std::size_t k, std::uint32_t* ids, double* d2) const = 0;
+  };
+  // nanoflann with the dimension fixed at compile time: its per-query distance buffer is then
+  // a std::array (with a run-time dimension it heap-allocates a vector per sub-tree searched).
+  template <int D>
+  struct FixedIndex final : Index {
+    using Tree = nanoflann::KDTreeSingleIndexDynamicAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
+                                                            Points, D, std::uint32_t>;
+    FixedIndex(std::size_t dim, const Points& points)
+        : tree(static_cast<int>(dim), points, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+    void add(NodeId id) override { tree.addPoints(id, id); }
+    std::size_t knn(const double* q, std::size_t k, std::uint32_t* ids, double* d2) const override {
+      nanoflann::KNNResultSet<double, std::uint32_t> result(k);
+      result.init(ids, d2);
+      tree.findNeighbors(result, q, nanoflann::SearchParams());
+      return result.size();
+    }
+    Tree tree;
+  };
+  static std::unique_ptr<Index> make_index(std::size_t dim, const Points& points) {
+    switch (dim) {  // the state dimensions of the suites; others use the run-time dimension
+      case 1: return std::make_unique<FixedIndex<1>>(dim, points);
+      case 2: return std::make_unique<FixedIndex<2>>(dim, points);
+      case 3: return std::make_unique<FixedIndex<3>>(dim, points);
+      case 4: return std::make_unique<FixedIndex<4>>(dim, points);
+      case 5: return std::make_unique<FixedIndex<5>>(dim, points);
+      case 6: return std::make_unique<FixedIndex<6>>(dim, points);
+      case 12: return std::make_unique<FixedIndex<12>>(dim, points);
+      case 25: return std::make_unique<FixedIndex<25>>(dim, points);
+      default: return std::make_unique<FixedIndex<-1>>(dim, points);
+    }
+  }
 
   const WeightedEuclidean& metric_;
   Points points_;
   mutable std::vector<double> query_;
   mutable std::vector<std::uint32_t> ids_;
   mutable std::vector<double> d2_;
-  Index index_;
+  std::unique_ptr<Index> index_;
 };
 
 // Linear scan: the oracle the KD-tree is tested against.

@@ -36,12 +36,20 @@ struct PlannerCounters {
   std::int64_t integration_steps = 0;
 };
 
+// A per-trial progress series, e.g. coverage against nodes (stored in the `series` table).
+struct NamedSeries {
+  std::string name;
+  std::vector<std::pair<double, double>> points;
+};
+
 struct PlannerOutcome {
   // falsified (a state with s <= 0 was reached; the engine validates the trajectory),
   // not_found (the method gave up), timeout, node_cap.
   TrialStatus status = TrialStatus::not_found;
   PlannerCounters counters;
   std::optional<Trajectory> trajectory;  // set when falsified
+  Json metrics = Json::object();         // method-specific scalars (coverage, beta, trees, ...)
+  std::vector<NamedSeries> series;
 };
 
 class Planner {

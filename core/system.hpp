@@ -33,6 +33,12 @@ class ModelSystem final : public System {
                   std::span<const double> p, std::span<double> dx) const override {
     model_.flow(q, x.data(), u.data(), p.data(), dx.data());
   }
+  bool input_affine(Mode) const override {
+    if constexpr (requires { M::input_affine; })
+      return M::input_affine;
+    else
+      return false;
+  }
   int guard_count(Mode q) const override { return model_.guard_count(q); }
   double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const override {
     return model_.guard(q, k, x.data(), p.data());

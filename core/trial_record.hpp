@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace hyfal {
 
@@ -57,6 +59,9 @@ struct TrialRecord {
   std::string git_commit;
   std::string started_at;   // ISO 8601 UTC, e.g. 2026-11-22T03:14:15.123Z
   std::string finished_at;
+  std::string metrics = "{}";  // JSON object of method-specific scalars (coverage, beta, ...)
+  // Progress series (name, points), stored in the `series` table with the trial's id.
+  std::vector<std::pair<std::string, std::vector<std::pair<double, double>>>> series;
 };
 
 }  // namespace hyfal

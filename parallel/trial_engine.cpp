@@ -88,6 +88,8 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
     rec.propagations = out.counters.propagations;
     rec.integration_steps = out.counters.integration_steps;
     rec.status = out.status;
+    rec.metrics = out.metrics.dump();
+    for (auto& s : out.series) rec.series.emplace_back(std::move(s.name), std::move(s.points));
     if (out.status == TrialStatus::falsified) {
       if (!out.trajectory) throw std::logic_error("the planner reported falsified without a trajectory");
       Witness w;
@@ -150,6 +152,9 @@ void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options,
         },
         tbb::simple_partitioner());
   });
+  // Acquire the lock the last sink call released: an explicit happens-before edge from every
+  // sink call to the caller, visible to ThreadSanitizer (TBB's own joins are not instrumented).
+  std::lock_guard lock(sink_mutex);
 }
 
 }  // namespace hyfal

@@ -44,6 +44,7 @@ CREATE TABLE IF NOT EXISTS trials (
   git_commit        TEXT    NOT NULL,
   started_at        TEXT    NOT NULL,
   finished_at       TEXT    NOT NULL,
+  metrics           TEXT    NOT NULL DEFAULT '{}',
   UNIQUE (experiment, suite, instance, method, config, trial_index)
 );
 CREATE TABLE IF NOT EXISTS series (
@@ -58,7 +59,7 @@ CREATE INDEX IF NOT EXISTS series_by_trial ON series (trial_id, name);
 constexpr const char* kTrialColumns =
     "experiment, suite, instance, method, config, trial_index, seed, status, validated, "
     "wall_s, cpu_s, nodes, propagations, integration_steps, witness, error, threads, host, "
-    "git_commit, started_at, finished_at";
+    "git_commit, started_at, finished_at, metrics";
 
 [[noreturn]] void throw_sqlite_error(sqlite3* connection, std::string_view what) {
   throw StoreError(fmt::format("{}: {}", what, sqlite3_errmsg(connection)));
@@ -208,7 +209,7 @@ TrialStore::TrialStore(std::string path, Connection connection)
   insert_trial_ = prepare(
       fmt::format("INSERT INTO trials ({}) VALUES "
                   "(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, "
-                  "?18, ?19, ?20, ?21)",
+                  "?18, ?19, ?20, ?21, ?22)",
                   kTrialColumns)
           .c_str());
   insert_series_point_ =
@@ -257,6 +258,23 @@ TrialStore::Statement TrialStore::prepare(const char* sql) {
 }
 
 std::int64_t TrialStore::insert(const TrialRecord& record) {
+  if (record.series.empty()) return insert_row(record);
+  // The row and its series in one transaction: stored whole or not at all.
+  execute(connection_.get(), "BEGIN IMMEDIATE",
+          fmt::format("cannot start transaction on results database '{}'", path_));
+  try {
+    const std::int64_t id = insert_row(record);
+    for (const auto& [name, points] : record.series) insert_points(id, name, points);
+    execute(connection_.get(), "COMMIT",
+            fmt::format("cannot commit trial to results database '{}'", path_));
+    return id;
+  } catch (...) {
+    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::int64_t TrialStore::insert_row(const TrialRecord& record) {
   // A single INSERT in autocommit mode is its own transaction: committed when step returns.
   StatementUse use(insert_trial_.get());
   bind_key_without_index(use, record.key);
@@ -276,6 +294,7 @@ std::int64_t TrialStore::insert(const TrialRecord& record) {
   use.bind(19, record.git_commit);
   use.bind(20, record.started_at);
   use.bind(21, record.finished_at);
+  use.bind(22, record.metrics);
   const int rc = sqlite3_step(insert_trial_.get());
   if (rc == SQLITE_CONSTRAINT_UNIQUE)
     throw StoreError(fmt::format("results database '{}' already holds the trial ({})", path_,
@@ -294,24 +313,28 @@ void TrialStore::insert_series(std::int64_t trial_id, const std::string& name,
   execute(connection_.get(), "BEGIN IMMEDIATE",
           fmt::format("cannot start transaction on results database '{}'", path_));
   try {
-    for (const auto& [x, y] : points) {
-      StatementUse use(insert_series_point_.get());
-      use.bind(1, trial_id);
-      use.bind(2, name);
-      use.bind(3, x);
-      use.bind(4, y);
-      if (sqlite3_step(insert_series_point_.get()) != SQLITE_DONE)
-        throw_sqlite_error(connection_.get(),
-                           fmt::format("cannot store series '{}' of trial {} in results database "
-                                       "'{}'",
-                                       name, trial_id, path_));
-    }
+    insert_points(trial_id, name, points);
     execute(connection_.get(), "COMMIT",
             fmt::format("cannot commit series '{}' of trial {} to results database '{}'", name,
                         trial_id, path_));
   } catch (...) {
     sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
+  }
+}
+
+void TrialStore::insert_points(std::int64_t trial_id, const std::string& name,
+                               std::span<const std::pair<double, double>> points) {
+  for (const auto& [x, y] : points) {
+    StatementUse use(insert_series_point_.get());
+    use.bind(1, trial_id);
+    use.bind(2, name);
+    use.bind(3, x);
+    use.bind(4, y);
+    if (sqlite3_step(insert_series_point_.get()) != SQLITE_DONE)
+      throw_sqlite_error(connection_.get(),
+                         fmt::format("cannot store series '{}' of trial {} in results database '{}'",
+                                     name, trial_id, path_));
   }
 }
 
@@ -355,6 +378,7 @@ std::vector<TrialRecord> TrialStore::load(std::optional<std::string> experiment)
     record.git_commit = use.text(18);
     record.started_at = use.text(19);
     record.finished_at = use.text(20);
+    record.metrics = use.text(21);
     records.push_back(std::move(record));
   }
   return records;

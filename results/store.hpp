@@ -59,6 +59,7 @@ class TrialStore {
 
   // Stores the points of the series called name of trial trial_id (a row id from insert), all
   // or none of them.
+  // Inserts the record's row and its series (in the same transaction).
   void insert_series(std::int64_t trial_id, const std::string& name,
                      std::span<const std::pair<double, double>> points);
 
@@ -90,6 +91,9 @@ class TrialStore {
   // The connection is declared before the statements so it is destroyed after them.
   Connection connection_;
   Statement insert_trial_;
+  std::int64_t insert_row(const TrialRecord& record);
+  void insert_points(std::int64_t trial_id, const std::string& name,
+                     std::span<const std::pair<double, double>> points);
   Statement insert_series_point_;
   Statement select_trial_indices_;
   Statement select_trials_;

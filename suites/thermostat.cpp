@@ -32,6 +32,7 @@ namespace {
 class Thermostat {
  public:
   static constexpr Mode kOff = 0, kOn = 1;
+  static constexpr bool input_affine = true;  // x1' = u
 
   Thermostat(double horizon, int levels)
       : horizon_(horizon),
@@ -79,6 +80,8 @@ std::shared_ptr<const System> make_thermostat(const Json& instance) {
   info.initial_state = {2.0, 0.0, 0.0};
   info.sampling_box = {{1.0, 0.0, 0.0}, {3.0, window, window}};
   info.metric_weights = {1.0, 1.0, 1.0};
+  info.goal_point = {2.0, 2.2, 1.5};  // in S: 2/3 * 2.2 - 1.5 < 0 and 2.2 >= 2
+  info.coverage = {{}, info.sampling_box, 0.1};
   info.step_duration = step;
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = step;

@@ -1,3 +1,5 @@
+// The operator new below pairs malloc with free on purpose (allocation counting).
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 // Simulation: integration accuracy, event detection and localization, invariants, NaN
 // rejection, and no heap allocation per propagation.
 #include <gtest/gtest.h>
