@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "core/paper_table.hpp"
 #include "core/planner.hpp"
 
 namespace hyfal {
@@ -17,6 +18,7 @@ struct SuiteEntry {
   std::vector<OptionSpec> parameters;
   // Builds the system of a resolved instance; throws std::invalid_argument on bad values.
   std::function<std::shared_ptr<const System>(const Json& instance)> make;
+  std::vector<PaperTable> tables;  // the paper tables this suite reproduces
 };
 
 }  // namespace hyfal
