@@ -1,5 +1,8 @@
 #include "core/options.hpp"
 
+#include <cmath>
+#include <cstdint>
+
 #include <fmt/format.h>
 
 namespace hyfal {
@@ -8,18 +11,22 @@ Json parse_option_value(const std::string& key, const std::string& text, const J
   Json v;
   try {
     v = Json::parse(text);
-  } catch (const Json::parse_error&) {
-    v = text;  // a bare word is a string
+  } catch (const Json::exception&) {  // not JSON, or a number out of range: a bare string
+    v = text;
   }
   const auto bad = [&](const char* what) {
     return OptionError(fmt::format("--set {}={}: expected {}", key, text, what));
   };
   if (like.is_number_integer()) {
+    // Integer settings are counts and sizes: they must fit a 32-bit int.
     if (!v.is_number_integer()) throw bad("an integer");
+    const auto i = v.get<std::int64_t>();
+    if (v.is_number_unsigned() && v.get<std::uint64_t>() > 2147483647ULL) throw bad("an integer below 2^31");
+    if (i > 2147483647LL || i < -2147483647LL) throw bad("an integer of magnitude below 2^31");
     return v;
   }
   if (like.is_number()) {
-    if (!v.is_number()) throw bad("a number");
+    if (!v.is_number() || !std::isfinite(v.get<double>())) throw bad("a finite number");
     return Json(v.get<double>());
   }
   if (like.is_boolean()) {

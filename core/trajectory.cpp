@@ -226,6 +226,9 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
   if (q != t.final_mode) return fail(fmt::format("the final mode is {}, the execution ends in {}", system.mode_name(t.final_mode), system.mode_name(q)));
   if (ef > tol) return fail(fmt::format("the final state differs from the re-simulated one by {:.3g}", ef));
   r.final_spec = system.spec(q, x, p);
+  if (std::abs(r.final_spec - t.final_spec) > tol * (1.0 + std::abs(r.final_spec)))
+    return fail(fmt::format("the recorded final s = {:.6g} differs from the re-simulated s = {:.6g}",
+                            t.final_spec, r.final_spec));
   if (r.final_spec > tol)
     return fail(fmt::format("the re-simulated final state is safe: s = {:.6g} > {:.3g}", r.final_spec, tol));
   r.valid = true;

@@ -113,8 +113,12 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
     }
   } catch (const std::exception& e) {
     rec.status = TrialStatus::error;
+    rec.validated = false;  // no witness on disk vouches for it
+    rec.witness.clear();
     rec.error = e.what();
   } catch (...) {
+    rec.validated = false;
+    rec.witness.clear();
     rec.status = TrialStatus::error;
     rec.error = "unknown exception";
   }

@@ -216,7 +216,15 @@ TrialStore::TrialStore(std::string path, Connection connection)
       prepare("INSERT INTO series (trial_id, name, x, y) VALUES (?1, ?2, ?3, ?4)");
   select_trial_indices_ = prepare(
       "SELECT trial_index FROM trials "
-      "WHERE experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5");
+      "WHERE experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 "
+      "AND status <> 'error'");
+  delete_error_series_ = prepare(
+      "DELETE FROM series WHERE trial_id IN (SELECT id FROM trials WHERE experiment = ?1 AND "
+      "suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 AND trial_index = ?6 AND "
+      "status = 'error')");
+  delete_error_trial_ = prepare(
+      "DELETE FROM trials WHERE experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 "
+      "AND config = ?5 AND trial_index = ?6 AND status = 'error'");
   select_trials_ = prepare(
       fmt::format("SELECT {} FROM trials WHERE ?1 IS NULL OR experiment = ?1 "
                   "ORDER BY suite, instance, method, config, trial_index, experiment",
@@ -258,11 +266,18 @@ TrialStore::Statement TrialStore::prepare(const char* sql) {
 }
 
 std::int64_t TrialStore::insert(const TrialRecord& record) {
-  if (record.series.empty()) return insert_row(record);
-  // The row and its series in one transaction: stored whole or not at all.
+  // One transaction: an earlier attempt of the same trial that ended in error is replaced (so a
+  // resumed run retries errors), and the row is stored with its series, whole or not at all.
   execute(connection_.get(), "BEGIN IMMEDIATE",
           fmt::format("cannot start transaction on results database '{}'", path_));
   try {
+    for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get()}) {
+      StatementUse use(statement);
+      bind_key_without_index(use, record.key);
+      use.bind(6, record.key.trial_index);
+      if (sqlite3_step(statement) != SQLITE_DONE)
+        throw_sqlite_error(connection_.get(), fmt::format("cannot replace an errored trial in '{}'", path_));
+    }
     const std::int64_t id = insert_row(record);
     for (const auto& [name, points] : record.series) insert_points(id, name, points);
     execute(connection_.get(), "COMMIT",

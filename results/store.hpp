@@ -65,6 +65,7 @@ class TrialStore {
 
   // The trial indices already stored for (experiment, suite, instance, method, config) of
   // key_without_index; its trial_index is ignored.
+  // Indices stored with a status other than error (errored trials are retried on resume).
   std::set<std::int64_t> stored_trial_indices(const TrialKey& key_without_index);
 
   // All trials, or those of one experiment, ordered by suite, instance, method, config,
@@ -95,6 +96,8 @@ class TrialStore {
   void insert_points(std::int64_t trial_id, const std::string& name,
                      std::span<const std::pair<double, double>> points);
   Statement insert_series_point_;
+  Statement delete_error_series_;
+  Statement delete_error_trial_;
   Statement select_trial_indices_;
   Statement select_trials_;
   Statement select_experiments_;

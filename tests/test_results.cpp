@@ -194,6 +194,21 @@ TEST_F(TrialStoreTest, DuplicateKeyThrows) {
   EXPECT_EQ(store.load().size(), 2u);
 }
 
+TEST_F(TrialStoreTest, AnErroredTrialIsRetriedAndReplaced) {
+  TrialStore store = TrialStore::open(database_path());
+  store.insert(make_record("rrt", 0, TrialStatus::error));
+  store.insert(make_record("rrt", 1));
+  EXPECT_EQ(store.stored_trial_indices(make_record("rrt", 0).key), (std::set<std::int64_t>{1}));
+  TrialRecord retry = make_record("rrt", 0);
+  retry.series = {{"coverage", {{1.0, 0.5}}}};
+  store.insert(retry);  // replaces the error row, no duplicate
+  const auto rows = store.load();
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].status, TrialStatus::falsified);
+  EXPECT_EQ(store.stored_trial_indices(make_record("rrt", 0).key), (std::set<std::int64_t>{0, 1}));
+  EXPECT_THROW(store.insert(make_record("rrt", 0)), StoreError);  // a real result is never replaced
+}
+
 TEST_F(TrialStoreTest, StoredTrialIndicesOfOneKey) {
   auto store = TrialStore::open(database_path());
   for (const std::int64_t index : {5, 0, 2}) store.insert(make_record("rrt", index));

@@ -1,5 +1,6 @@
 // The method registry: a new planner is one folder under core/planners/ plus one line here.
 #include "core/planner.hpp"
+#include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
 #include "core/planners/rrt/rrt.hpp"
 
 namespace hyfal {
@@ -7,6 +8,7 @@ namespace hyfal {
 const std::vector<MethodEntry>& all_methods() {
   static const std::vector<MethodEntry> methods = {
       rrt_method(),
+      enhanced_rrt_method(),
   };
   return methods;
 }

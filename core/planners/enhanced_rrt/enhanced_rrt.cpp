@@ -1,0 +1,442 @@
+// Enhanced RRT, seed 000 Alg. 3-4, with each enhancement a separate option so that variants can
+// be compared (Tables I-III):
+//   selection = metric | t2go    x_near and u_new by rho, or by the time-to-go (III.2); t2go
+//                                picks x_near among the k nearest by rho (the paper's
+//                                suggestion), falling back to rho when none is finite.
+//   history   = none | tree | knn  history weighting H (III.3) normalized over the whole tree
+//                                (the paper's definition, O(N) per iteration) or over the k
+//                                nearest; a failed extension (u_new already applied from
+//                                x_near, so x_new is already in T) increments n_j and tries the
+//                                next best input (Alg. 4).
+//   sampling  = uniform | medium | heavy | adaptive   B(x; µ, β) (III.6) around the suite's
+//                                goal point with σ(β) (III.7): fixed β = 0.5 (medium), fixed
+//                                β = 1 (heavy, σ = σ_min), or β = n_s / n_β updated every N_s
+//                                iterations (III.5), starting at β = 1 (Alg. 3).
+// With adaptive sampling, an x_near that fails to grow toward a sample inside S is excluded
+// from selection for later samples inside S (Sect. III-C). The secondary stop of Alg. 3 ends
+// the search (not_found) when the coverage gained over the last `coverage_window` nodes is
+// below `delta_c_min`. With several initial states (SystemInfo::other_initial_states) one tree
+// grows from each, in turn (the forest of seed 000 Fig. 12); nodes are counted over the forest.
+// With every option at its default this is exactly the baseline RRT (tested).
+#include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <unordered_set>
+
+#include <fmt/format.h>
+
+#include "core/coverage.hpp"
+#include "core/metrics/history_weight.hpp"
+#include "core/metrics/time_to_go.hpp"
+#include "core/nearest.hpp"
+#include "core/rng.hpp"
+#include "core/samplers/biased_sampler.hpp"
+#include "core/tree.hpp"
+
+namespace hyfal {
+
+namespace {
+
+enum class Selection { metric, t2go };
+enum class History { none, tree, knn };
+enum class Sampling { uniform, medium, heavy, adaptive };
+
+struct EnhancedOptions {
+  Selection selection = Selection::metric;
+  History history = History::none;
+  Sampling sampling = Sampling::uniform;
+  int k = 10;
+  double sigma_min = 0.05, sigma_max = 0.5;
+  int n_s = 50;
+  int coverage_window = 0;
+  double delta_c_min = 1e-4;
+  std::int64_t coverage_at = 5000;
+  int series_every = 100;
+  bool record_failed_extensions = false;
+  bool t2go_inputs = true;
+};
+
+template <class E>
+E parse_choice(const Json& o, const char* key, std::initializer_list<std::pair<const char*, E>> choices) {
+  const std::string v = o.at(key).get<std::string>();
+  for (const auto& [name, e] : choices)
+    if (v == name) return e;
+  std::string names;
+  for (const auto& [name, e] : choices) names += (names.empty() ? "" : ", ") + std::string(name);
+  throw std::invalid_argument(fmt::format("enhanced-rrt: {}={} is not one of {}", key, v, names));
+}
+
+EnhancedOptions parse_options(const Json& o) {
+  EnhancedOptions e;
+  e.selection = parse_choice<Selection>(o, "selection", {{"metric", Selection::metric}, {"t2go", Selection::t2go}});
+  e.history = parse_choice<History>(o, "history", {{"none", History::none}, {"tree", History::tree}, {"knn", History::knn}});
+  e.sampling = parse_choice<Sampling>(o, "sampling", {{"uniform", Sampling::uniform}, {"medium", Sampling::medium},
+                                                      {"heavy", Sampling::heavy}, {"adaptive", Sampling::adaptive}});
+  e.k = o.at("k").get<int>();
+  e.sigma_min = o.at("sigma_min").get<double>();
+  e.sigma_max = o.at("sigma_max").get<double>();
+  e.n_s = o.at("n_s").get<int>();
+  e.coverage_window = o.at("coverage_window").get<int>();
+  e.delta_c_min = o.at("delta_c_min").get<double>();
+  e.coverage_at = o.at("coverage_at").get<std::int64_t>();
+  e.series_every = o.at("series_every").get<int>();
+  e.record_failed_extensions = o.at("record_failed_extensions").get<bool>();
+  e.t2go_inputs = o.at("t2go_inputs").get<bool>();
+  if (e.k < 1) throw std::invalid_argument("enhanced-rrt: k must be >= 1");
+  if (!(e.sigma_min > 0.0) || !(e.sigma_max >= e.sigma_min))
+    throw std::invalid_argument("enhanced-rrt: need 0 < sigma_min <= sigma_max");
+  if (e.n_s < 1) throw std::invalid_argument("enhanced-rrt: n_s must be >= 1");
+  if (e.coverage_window < 0) throw std::invalid_argument("enhanced-rrt: coverage_window must be >= 0");
+  if (e.series_every < 1) throw std::invalid_argument("enhanced-rrt: series_every must be >= 1");
+  return e;
+}
+
+// One tree of the forest, with the per-node bookkeeping the enhancements need.
+struct Tree {
+  Tree(std::size_t n, std::size_t m, const WeightedEuclidean& metric) : nodes(n, m), nn(metric) {}
+  NodeStore nodes;
+  NearestNeighbors nn;
+  std::vector<std::uint64_t> applied;          // Ū indices applied from each node (|Ū| <= 64)
+  std::unordered_set<std::uint64_t> applied_wide;  // (node, index) pairs when |Ū| > 64
+  std::vector<char> excluded;                  // excluded from selection for samples in S
+  std::vector<double> projected;               // sqrt(w) x of every node, for history = tree
+};
+
+class EnhancedRrt final : public Planner {
+ public:
+  explicit EnhancedRrt(EnhancedOptions o) : o_(o) {}
+
+  PlannerOutcome solve(const PlannerContext& ctx) override {
+    const System& sys = ctx.system;
+    const SystemInfo& info = sys.info();
+    const std::size_t n = info.dim(), m = info.input_names.size();
+    const std::span<const double> p = ctx.parameters;
+    PlannerOutcome out;
+    PlannerCounters& c = out.counters;
+    const WeightedEuclidean metric(info.metric_weights);
+    auto prop = sys.make_propagator();
+    TimeToGo t2go(sys, metric, p);
+    const SearchBudget budget(ctx);
+    Rng rng(ctx.seed);
+
+    const bool biased = o_.sampling != Sampling::uniform;
+    if (biased && info.goal_point.size() != n)
+      throw std::invalid_argument(fmt::format("enhanced-rrt: sampling={} needs the suite's goal point", sampling_name()));
+    const BiasedSampler biased_sampler(info.sampling_box, info.goal_point, o_.sigma_min, o_.sigma_max);
+    AdaptiveBias adaptive(o_.n_s);
+    std::vector<std::uniform_real_distribution<double>> uniform;
+    for (std::size_t i = 0; i < n; ++i) uniform.emplace_back(info.sampling_box.lo[i], info.sampling_box.hi[i]);
+
+    std::optional<CoverageGrid> coverage;
+    if (info.coverage.spacing > 0.0) coverage.emplace(info.coverage, n);
+    NamedSeries coverage_series{"coverage", {}}, beta_series{"beta", {}};
+
+    // The forest: one tree per initial state.
+    std::vector<std::vector<double>> starts{info.initial_state};
+    for (const auto& x0 : info.other_initial_states) starts.push_back(x0);
+    std::vector<Tree> forest;
+    forest.reserve(starts.size());
+    auto add_node = [&](Tree& t, NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
+                        std::span<const double> u, double duration, int transition) {
+      const NodeId id = t.nodes.add(parent, edge_mode, mode, x, u, duration, transition);
+      t.nn.add(id, x);
+      t.applied.push_back(0);
+      t.excluded.push_back(0);
+      if (o_.history == History::tree) {
+        const auto& w = metric.weights();
+        for (std::size_t i = 0; i < n; ++i) t.projected.push_back(std::sqrt(w[i]) * x[i]);
+      }
+      ++c.nodes;
+      if (coverage) {
+        coverage->add(x);
+        if (c.nodes % o_.series_every == 0) coverage_series.points.emplace_back(c.nodes, coverage->coverage());
+        if (c.nodes == o_.coverage_at) out.metrics["coverage"] = coverage->coverage();
+      }
+      return id;
+    };
+    auto finish_falsified = [&](Tree& t, NodeId leaf) {
+      out.status = TrialStatus::falsified;
+      out.trajectory = trajectory_from_tree(sys, *prop, t.nodes, leaf, p);
+    };
+    for (const auto& x0 : starts) {
+      forest.emplace_back(n, m, metric);
+      add_node(forest.back(), kNoNode, info.initial_mode, info.initial_mode, x0, {}, 0.0, -1);
+    }
+    for (auto& t : forest)
+      if (!out.trajectory && sys.spec(info.initial_mode, t.nodes.state(0), p) <= 0.0) finish_falsified(t, 0);
+
+    std::vector<double> x_rand(n), x_new(n);
+    std::vector<Neighbor> neighbors(static_cast<std::size_t>(o_.k));
+    std::vector<double> cand_dist;
+    std::vector<std::uint32_t> cand_fail;
+    std::vector<NodeId> cand_id;
+    // Per-input outcomes of one extension.
+    std::vector<double> states, score;
+    std::vector<PropagationResult> results;
+    std::vector<std::size_t> order;
+    std::int64_t iteration = 0;
+
+    while (!out.trajectory) {
+      if (auto why = budget.exhausted(c.nodes)) {
+        out.status = *why;
+        break;
+      }
+      if (coverage && o_.coverage_window > 0 && coverage->nodes() > static_cast<std::size_t>(o_.coverage_window) &&
+          coverage->growth(o_.coverage_window) * o_.coverage_window < o_.delta_c_min) {
+        out.status = TrialStatus::not_found;  // Alg. 3: Δc over the trailing N below Δc_min
+        break;
+      }
+      Tree& t = forest[static_cast<std::size_t>(iteration % static_cast<std::int64_t>(forest.size()))];
+      ++iteration;
+
+      // Line 1-2 of Alg. 4: x_rand ~ B(x; µ, β) (or uniform).
+      const double beta = o_.sampling == Sampling::adaptive ? adaptive.beta()
+                          : o_.sampling == Sampling::heavy  ? 1.0
+                                                            : 0.5;
+      if (biased)
+        biased_sampler.sample(rng, beta, x_rand);
+      else
+        for (std::size_t i = 0; i < n; ++i) x_rand[i] = uniform[i](rng);
+      const bool in_spec = o_.sampling == Sampling::adaptive && sys.spec(info.initial_mode, x_rand, p) <= 0.0;
+
+      // Line 3: x_near.
+      const NodeId near = select_near(sys, t, metric, t2go, x_rand, in_spec, neighbors, cand_dist, cand_fail, cand_id);
+      if (near == kNoNode) {
+        if (o_.sampling == Sampling::adaptive) record_beta(adaptive, in_spec, false, iteration, beta_series);
+        continue;
+      }
+      NodeInfo& near_info = t.nodes.info(near);
+      ++near_info.selections;
+      const Mode q = near_info.mode;
+      const InputSet& U = sys.inputs(q);
+      const auto x_near = t.nodes.state(near);
+
+      // Line 4: propagate every input of Ū, score by rho or t2go toward x_rand.
+      const std::size_t nu = U.count();
+      states.resize(nu * n);
+      score.assign(nu, std::numeric_limits<double>::infinity());
+      results.resize(nu);
+      bool any_finite_t2go = false;
+      for (std::size_t j = 0; j < nu; ++j) {
+        std::span<double> xs(states.data() + j * n, n);
+        results[j] = prop->propagate(q, x_near, U.input(j), p, info.step_duration, xs);
+        ++c.propagations;
+        c.integration_steps += results[j].steps;
+        const PropagationResult& r = results[j];
+        if (r.end == PropagationEnd::rejected) continue;
+        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
+        if (o_.selection == Selection::t2go && o_.t2go_inputs) {
+          score[j] = t2go(r.mode, xs, x_rand);
+          any_finite_t2go = any_finite_t2go || std::isfinite(score[j]);
+        } else {
+          score[j] = metric.distance(x_rand, xs);
+        }
+      }
+      if (o_.selection == Selection::t2go && o_.t2go_inputs && !any_finite_t2go)  // fall back to rho
+        for (std::size_t j = 0; j < nu; ++j)
+          if (results[j].end != PropagationEnd::rejected &&
+              (results[j].duration > 0.0 || results[j].end == PropagationEnd::jumped || results[j].end == PropagationEnd::unsafe))
+            score[j] = metric.distance(x_rand, std::span<const double>(states.data() + j * n, n));
+
+      // Lines 5-9: the best input not applied from x_near yet; each already-applied one is a
+      // failed extension (n_j++) and leaves Ū.
+      order.resize(nu);
+      std::iota(order.begin(), order.end(), 0);
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return score[a] < score[b]; });
+      std::size_t chosen = nu;
+      for (std::size_t j : order) {
+        if (!std::isfinite(score[j])) break;
+        if (o_.history != History::none && was_applied(t, near, j, nu)) {
+          ++near_info.failed_extensions;
+          continue;
+        }
+        chosen = j;
+        break;
+      }
+      if (chosen == nu) {
+        if (o_.history == History::none) ++near_info.failed_extensions;  // no input made progress
+        if (in_spec) t.excluded[near] = 1;
+        if (o_.sampling == Sampling::adaptive) record_beta(adaptive, in_spec, false, iteration, beta_series);
+        continue;
+      }
+      if (o_.history != History::none) mark_applied(t, near, chosen, nu);
+      std::copy_n(states.data() + chosen * n, n, x_new.begin());
+      const PropagationResult& r = results[chosen];
+      const double rho_before = metric.distance(x_near, x_rand);
+      const NodeId id = add_node(t, near, q, r.mode, x_new, U.input(chosen), r.duration, r.transition);
+      const bool successful = metric.distance(x_new, x_rand) < rho_before;
+      if (o_.sampling == Sampling::adaptive) {
+        if (in_spec && !successful) t.excluded[near] = 1;
+        record_beta(adaptive, in_spec, successful, iteration, beta_series);
+      }
+      if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) finish_falsified(t, id);
+    }
+
+    // Per-trial results.
+    if (coverage) {
+      out.metrics["coverage_final"] = coverage->coverage();
+      coverage_series.points.emplace_back(c.nodes, coverage->coverage());
+      out.series.push_back(std::move(coverage_series));
+    }
+    if (o_.sampling == Sampling::adaptive) {
+      out.metrics["beta_final"] = adaptive.beta();
+      out.series.push_back(std::move(beta_series));
+    }
+    std::uint32_t max_fail = 0;
+    std::int64_t excluded = 0;
+    std::vector<double> fails;
+    for (const auto& t : forest)
+      for (NodeId i = 0; i < t.nodes.size(); ++i) {
+        max_fail = std::max(max_fail, t.nodes.info(i).failed_extensions);
+        excluded += t.excluded[i];
+        if (o_.record_failed_extensions) fails.push_back(t.nodes.info(i).failed_extensions);
+      }
+    out.metrics["failed_extensions_max"] = max_fail;
+    if (o_.sampling == Sampling::adaptive) out.metrics["excluded_nodes"] = excluded;
+    out.metrics["trees"] = forest.size();
+    if (o_.record_failed_extensions) {  // seed 000 Fig. 6: n_j sorted in descending order
+      std::sort(fails.begin(), fails.end(), std::greater<>());
+      NamedSeries s{"failed_extensions_sorted", {}};
+      for (std::size_t i = 0; i < fails.size(); ++i) s.points.emplace_back(static_cast<double>(i), fails[i]);
+      out.series.push_back(std::move(s));
+    }
+    return out;
+  }
+
+ private:
+  const char* sampling_name() const {
+    switch (o_.sampling) {
+      case Sampling::uniform: return "uniform";
+      case Sampling::medium: return "medium";
+      case Sampling::heavy: return "heavy";
+      case Sampling::adaptive: return "adaptive";
+    }
+    return "?";
+  }
+
+  void record_beta(AdaptiveBias& adaptive, bool in_spec, bool successful, std::int64_t iteration, NamedSeries& s) {
+    if (adaptive.record(in_spec, successful)) s.points.emplace_back(static_cast<double>(iteration), adaptive.beta());
+  }
+
+  static bool was_applied(const Tree& t, NodeId node, std::size_t j, std::size_t nu) {
+    if (nu <= 64) return (t.applied[node] >> j) & 1u;
+    return t.applied_wide.count(static_cast<std::uint64_t>(node) * nu + j) != 0;
+  }
+  static void mark_applied(Tree& t, NodeId node, std::size_t j, std::size_t nu) {
+    if (nu <= 64)
+      t.applied[node] |= std::uint64_t{1} << j;
+    else
+      t.applied_wide.insert(static_cast<std::uint64_t>(node) * nu + j);
+  }
+
+  // Line 3 of Alg. 4: x_near = argmin over the candidates of rho, t2go, or H(., x_rand; rho|t2go).
+  NodeId select_near(const System& sys, Tree& t, const WeightedEuclidean& metric, TimeToGo& t2go,
+                     std::span<const double> x_rand, bool in_spec, std::vector<Neighbor>& neighbors,
+                     std::vector<double>& dist, std::vector<std::uint32_t>& fail, std::vector<NodeId>& ids) const {
+    const bool skip_excluded = in_spec;
+    auto distance_of = [&](NodeId id, double rho) {
+      return o_.selection == Selection::t2go ? t2go(t.nodes.info(id).mode, t.nodes.state(id), x_rand) : rho;
+    };
+    if (o_.history == History::tree) {  // (III.3) normalized over the whole tree
+      const std::size_t N = t.nodes.size(), n = metric.dim();
+      dist.clear();
+      fail.clear();
+      ids.clear();
+      const auto& w = metric.weights();
+      thread_local std::vector<double> z;
+      z.resize(n);
+      for (std::size_t i = 0; i < n; ++i) z[i] = std::sqrt(w[i]) * x_rand[i];
+      for (std::size_t id = 0; id < N; ++id) {
+        if (skip_excluded && t.excluded[id]) continue;
+        const double* a = t.projected.data() + id * n;
+        double s = 0.0;
+        for (std::size_t i = 0; i < n; ++i) s += (a[i] - z[i]) * (a[i] - z[i]);
+        ids.push_back(static_cast<NodeId>(id));
+        dist.push_back(std::sqrt(s));
+        fail.push_back(t.nodes.info(static_cast<NodeId>(id)).failed_extensions);
+      }
+      if (o_.selection == Selection::t2go) {
+        bool any = false;
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+          const double tg = t2go(t.nodes.info(ids[i]).mode, t.nodes.state(ids[i]), x_rand);
+          any = any || std::isfinite(tg);
+          if (std::isfinite(tg) || any) dist[i] = tg;
+          else dist[i] = tg;
+        }
+        if (!any)  // no finite t2go anywhere: rho decides (III.2 remark)
+          for (std::size_t i = 0; i < ids.size(); ++i) dist[i] = metric.distance(t.nodes.state(ids[i]), x_rand);
+      }
+      const std::size_t best = argmin_history_weight(dist, fail);
+      return best == kNoCandidate ? kNoNode : ids[best];
+    }
+    // Candidates: the nearest by rho (k of them when t2go or history need a set), skipping
+    // excluded nodes for samples in S.
+    const bool need_set = o_.selection == Selection::t2go || o_.history == History::knn;
+    const std::size_t want = need_set ? static_cast<std::size_t>(o_.k) : 1;
+    std::size_t ask = want;
+    ids.clear();
+    dist.clear();
+    while (true) {
+      neighbors.resize(std::max(ask, neighbors.size()));
+      const std::size_t found = t.nn.knn(x_rand, std::span<Neighbor>(neighbors.data(), ask));
+      ids.clear();
+      dist.clear();
+      for (std::size_t i = 0; i < found && ids.size() < want; ++i) {
+        if (skip_excluded && t.excluded[neighbors[i].id]) continue;
+        ids.push_back(neighbors[i].id);
+        dist.push_back(neighbors[i].distance);
+      }
+      if (ids.size() == want || found < ask) break;
+      ask *= 4;  // too many excluded among the nearest: look further
+    }
+    if (ids.empty()) return kNoNode;
+    if (o_.selection == Selection::t2go) {
+      std::vector<double>& rho = fail.empty() ? dist : dist;  // dist holds rho now
+      bool any = false;
+      thread_local std::vector<double> tg;
+      tg.resize(ids.size());
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+        tg[i] = distance_of(ids[i], rho[i]);
+        any = any || std::isfinite(tg[i]);
+      }
+      if (any) std::copy(tg.begin(), tg.end(), dist.begin());  // else rho decides
+    }
+    if (o_.history == History::knn) {
+      fail.resize(ids.size());
+      for (std::size_t i = 0; i < ids.size(); ++i) fail[i] = t.nodes.info(ids[i]).failed_extensions;
+      return ids[argmin_history_weight(dist, fail)];
+    }
+    return ids[static_cast<std::size_t>(std::min_element(dist.begin(), dist.end()) - dist.begin())];
+  }
+
+  EnhancedOptions o_;
+};
+
+}  // namespace
+
+MethodEntry enhanced_rrt_method() {
+  return {"enhanced-rrt",
+          "enhanced RRT of seed 000 (Alg. 3-4): t2go selection, history weighting, adaptive bias, "
+          "coverage stop; every option off = baseline RRT",
+          {{"selection", "metric", "x_near and u_new by the metric (metric) or time-to-go (t2go, III.2)"},
+           {"k", 10, "candidates (nearest by the metric) for t2go and history=knn"},
+           {"history", "none", "history weighting H (III.3): none, tree (whole tree) or knn (k nearest)"},
+           {"sampling", "uniform", "x_rand: uniform, medium (β=0.5), heavy (β=1) or adaptive (III.5-7)"},
+           {"sigma_min", 0.05, "σ_min of (III.7), as a fraction of the sampling-box width"},
+           {"sigma_max", 0.5, "σ_max of (III.7), as a fraction of the sampling-box width"},
+           {"n_s", 50, "N_s: iterations between β updates (III.5)"},
+           {"coverage_window", 0, "N of the secondary stop: stop when c gains < delta_c_min over N nodes (0: off)"},
+           {"delta_c_min", 1e-4, "Δc_min of the secondary stop"},
+           {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded"},
+           {"series_every", 100, "nodes between points of the coverage series"},
+           {"t2go_inputs", true, "with selection=t2go, also pick u_new by t2go (Alg. 4); false: by the metric"},
+           {"record_failed_extensions", false, "store the sorted n_j of the final tree (Fig. 6) as a series"}},
+          [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o)); }};
+}
+
+}  // namespace hyfal

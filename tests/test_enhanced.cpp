@@ -1,0 +1,260 @@
+// The enhancements of seed 000, each on hand-computed cases: t2go (III.2), history weighting
+// (III.3), B(x; µ, β) (III.6-7), the β update (III.5), coverage (II.1); and the enhanced RRT.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "core/coverage.hpp"
+#include "core/metrics/history_weight.hpp"
+#include "core/metrics/time_to_go.hpp"
+#include "core/options.hpp"
+#include "core/samplers/biased_sampler.hpp"
+#include "core/system.hpp"
+#include "suites/registry.hpp"
+
+namespace hyfal {
+namespace {
+
+// Example 3.1: x1' = 2, x2' = u, u in [1, 2]; unsafe when x1 >= 10 and x2 <= 12 (reachable).
+template <bool Affine>
+struct Example31 {
+  static constexpr bool input_affine = Affine;
+  InputSet U = InputSet::grid({{1.0}, {2.0}}, 5);
+  int dim() const { return 2; }
+  void flow(Mode, const double*, const double* u, const double*, double* dx) const {
+    dx[0] = 2.0;
+    dx[1] = u[0];
+  }
+  int guard_count(Mode) const { return 0; }
+  double guard(Mode, int, const double*, const double*) const { return -1.0; }
+  Mode jump(Mode q, int, double*, const double*) const { return q; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double* x, const double*) const { return std::max(10.0 - x[0], x[1] - 12.0); }
+  const InputSet& inputs(Mode) const { return U; }
+};
+
+template <bool Affine>
+std::shared_ptr<const System> example31(std::vector<std::vector<double>> more_starts = {}) {
+  SystemInfo info;
+  info.suite = "example31-test";
+  info.instance = Json::object();
+  info.state_names = {"x1", "x2"};
+  info.input_names = {"u"};
+  info.initial_state = {0.0, 0.0};
+  info.other_initial_states = std::move(more_starts);
+  info.sampling_box = {{0.0, 0.0}, {12.0, 24.0}};
+  info.metric_weights = {1.0, 1.0};
+  info.goal_point = {11.0, 11.0};
+  info.coverage = {{}, info.sampling_box, 0.5};
+  info.step_duration = 0.25;
+  info.integrator.step = 0.25;
+  return std::make_shared<ModelSystem<Example31<Affine>>>(Example31<Affine>{}, std::move(info));
+}
+
+TEST(TimeToGo, Fig1NodeAIsPreferredOverTheNearerNodeB) {
+  auto sys = example31<true>();
+  const WeightedEuclidean metric({1.0, 1.0});
+  TimeToGo t2go(*sys, metric, {});
+  const double A[2] = {0.0, 0.0}, B[2] = {2.0, 2.5}, x_rand[2] = {2.5, 1.0};
+  EXPECT_LT(metric.distance(B, x_rand), metric.distance(A, x_rand));  // B is nearer ...
+  EXPECT_TRUE(std::isinf(t2go(0, B, x_rand)));  // ... but no velocity in [1, 2] closes on x_rand
+  // From A: g = max_u ((2.5, 1) · (2, u)) / rho = 7 / rho, so t2go = rho^2 / 7 = 7.25 / 7.
+  EXPECT_NEAR(t2go(0, A, x_rand), 7.25 / 7.0, 1e-12);
+}
+
+TEST(TimeToGo, ClosedFormEqualsExhaustiveSearch) {
+  auto affine = example31<true>();
+  auto general = example31<false>();
+  const WeightedEuclidean metric({1.0, 3.0});
+  TimeToGo a(*affine, metric, {}), g(*general, metric, {});
+  const double pts[][2] = {{0, 0}, {3, 1}, {5, 9}, {1, 7}};
+  const double targets[][2] = {{4, 4}, {0, 9}, {7, 2}, {12, 24}};
+  for (const auto& x : pts)
+    for (const auto& y : targets) {
+      EXPECT_NEAR(a.approach_speed(0, x, y), g.approach_speed(0, x, y), 1e-12);
+      const double ta = a(0, x, y), tg = g(0, x, y);
+      if (std::isinf(tg)) EXPECT_TRUE(std::isinf(ta));
+      else EXPECT_NEAR(ta, tg, 1e-12);
+    }
+}
+
+TEST(HistoryWeight, NormalizesBothTerms) {
+  // rho in [1, 3], n in [0, 4]: H = (rho - 1)/2 + n/4.
+  const double rho[] = {1.0, 2.0, 3.0, 1.5};
+  const std::uint32_t n[] = {4, 0, 0, 2};
+  // H = 1.0, 0.5, 1.0, 0.75 -> index 1 although index 0 is nearest.
+  EXPECT_EQ(argmin_history_weight(rho, n), 1u);
+  const std::uint32_t n_equal[] = {3, 3, 3, 3};  // zero range: distance alone decides
+  EXPECT_EQ(argmin_history_weight(rho, n_equal), 0u);
+  const double rho_inf[] = {INFINITY, 2.0};  // an infinite t2go is the worst distance
+  const std::uint32_t n2[] = {0, 5};
+  // H = 1 + 0 and 0 + 1: tie, first wins.
+  EXPECT_EQ(argmin_history_weight(rho_inf, n2), 0u);
+  EXPECT_EQ(argmin_history_weight({}, {}), kNoCandidate);
+}
+
+TEST(BiasedSampler, SigmaOfBetaAndMomentsInsideTheBox) {
+  const Box box{{0.0}, {10.0}};
+  const BiasedSampler s(box, {5.0}, 0.05, 0.5);
+  EXPECT_DOUBLE_EQ(s.sigma(1.0), 0.05);
+  EXPECT_DOUBLE_EQ(s.sigma(0.0), 0.5);
+  EXPECT_DOUBLE_EQ(s.sigma(0.5), 0.275);
+  Rng rng(3);
+  double sum = 0, sum2 = 0;
+  const int N = 200000;
+  double x[1];
+  for (int i = 0; i < N; ++i) {
+    s.sample(rng, 1.0, x);
+    ASSERT_GE(x[0], 0.0);
+    ASSERT_LE(x[0], 10.0);
+    sum += x[0];
+    sum2 += x[0] * x[0];
+  }
+  const double mean = sum / N, var = sum2 / N - mean * mean;
+  EXPECT_NEAR(mean, 5.0, 0.01);
+  EXPECT_NEAR(std::sqrt(var), 0.5, 0.01);  // σ = 0.05 * width; truncated mass is negligible
+}
+
+TEST(BiasedSampler, TruncatedMassIsSpreadUniformly) {
+  // µ at the lower edge, σ = 0.5 width: half the normal mass falls below a and is redrawn
+  // uniformly, so P(x > 0.9 width) = C_t * 0.1 + P_normal(x > 0.9 width).
+  const Box box{{0.0}, {1.0}};
+  const BiasedSampler s(box, {0.0}, 0.5, 0.5);
+  Rng rng(11);
+  const int N = 400000;
+  int above = 0;
+  double x[1];
+  for (int i = 0; i < N; ++i) {
+    s.sample(rng, 0.0, x);
+    above += x[0] > 0.9;
+  }
+  const auto Phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+  const double Ct = Phi(0.0) + (1.0 - Phi(1.0 / 0.5));
+  const double expected = Ct * 0.1 + (Phi(1.0 / 0.5) - Phi(0.9 / 0.5));
+  EXPECT_NEAR(static_cast<double>(above) / N, expected, 0.003);
+}
+
+TEST(AdaptiveBias, BetaIsSuccessesOverSamplesInS) {
+  AdaptiveBias b(4);
+  EXPECT_EQ(b.beta(), 1.0);  // Alg. 3 starts at β = 1
+  EXPECT_FALSE(b.record(true, true));
+  EXPECT_FALSE(b.record(true, false));
+  EXPECT_FALSE(b.record(false, true));  // outside S: not counted
+  EXPECT_TRUE(b.record(true, false));
+  EXPECT_DOUBLE_EQ(b.beta(), 1.0 / 3.0);
+  for (int i = 0; i < 4; ++i) b.record(false, false);  // no sample in S: β kept
+  EXPECT_DOUBLE_EQ(b.beta(), 1.0 / 3.0);
+}
+
+TEST(Coverage, IncrementalEqualsFromScratchOnATinyGrid) {
+  const CoverageSpec spec{{0, 2}, {{0.0, 0.0}, {2.0, 1.0}}, 0.25};  // 9 x 5 grid over dims 0, 2
+  CoverageGrid g(spec, 3);
+  EXPECT_EQ(g.points(), 45u);
+  EXPECT_DOUBLE_EQ(g.coverage(), 0.0);
+  std::vector<std::vector<double>> nodes;
+  Rng rng(5);
+  std::uniform_real_distribution<double> u(-0.2, 2.2);
+  for (int i = 0; i < 40; ++i) {
+    nodes.push_back({u(rng), 99.0, u(rng) * 0.5});
+    g.add(nodes.back());
+    EXPECT_NEAR(g.coverage(), CoverageGrid::coverage_of(spec, 3, nodes), 1e-6) << "after " << i + 1;
+  }
+  EXPECT_GT(g.coverage(), 0.3);
+  EXPECT_GE(g.growth(10), 0.0);
+  // A node exactly on a grid point covers it fully and its 4 neighbours partly.
+  CoverageGrid one(spec, 3);
+  const double on_point[3] = {1.0, 0.0, 0.5};
+  one.add(on_point);
+  EXPECT_NEAR(one.coverage(), (1.0 + 4 * 0.0) / 45.0, 1e-6);
+}
+
+PlannerOutcome solve(const System& sys, const std::string& method, std::uint64_t seed,
+                     std::vector<std::pair<std::string, std::string>> sets = {}, std::int64_t cap = 300000) {
+  const MethodEntry* m = find_method(method);
+  auto planner = m->make(resolve_options(m->options, sets));
+  const PlannerContext ctx{sys, sys.info().parameters, seed, PlannerLimits{60.0, cap}, {}};
+  return planner->solve(ctx);
+}
+
+std::shared_ptr<const System> thermostat() {
+  const SuiteEntry* s = find_suite("thermostat");
+  return s->make(resolve_options(s->parameters, {}));
+}
+
+TEST(EnhancedRrt, WithEveryOptionOffItIsTheBaselineRrt) {
+  auto sys = thermostat();
+  for (std::uint64_t seed : {1u, 7u, 12u}) {
+    const auto a = solve(*sys, "rrt", seed), b = solve(*sys, "enhanced-rrt", seed);
+    ASSERT_EQ(a.status, TrialStatus::falsified);
+    EXPECT_EQ(a.status, b.status);
+    EXPECT_EQ(a.counters.nodes, b.counters.nodes);
+    EXPECT_EQ(a.counters.propagations, b.counters.propagations);
+    EXPECT_EQ(a.trajectory->final_x, b.trajectory->final_x);
+  }
+}
+
+Witness witness_of(const System& sys, Trajectory t) {
+  Witness w;
+  w.suite = sys.info().suite;
+  w.instance = sys.info().instance;
+  w.state_names = sys.info().state_names;
+  w.input_names = sys.info().input_names;
+  w.trajectory = std::move(t);
+  return w;
+}
+
+TEST(EnhancedRrt, EveryVariantFalsifiesTheThermostatWithAValidWitness) {
+  auto sys = thermostat();
+  const std::vector<std::vector<std::pair<std::string, std::string>>> variants = {
+      {{"selection", "t2go"}, {"t2go_inputs", "false"}},
+      {{"history", "knn"}},
+      {{"history", "tree"}},
+      {{"sampling", "adaptive"}},
+      {{"selection", "t2go"}, {"t2go_inputs", "false"}, {"history", "knn"}, {"sampling", "adaptive"}}};
+  for (const auto& v : variants) {
+    const auto out = solve(*sys, "enhanced-rrt", 3, v);
+    ASSERT_EQ(out.status, TrialStatus::falsified) << v.front().first << "=" << v.front().second;
+    const auto report = validate_witness(*sys, witness_of(*sys, *out.trajectory));
+    EXPECT_TRUE(report.valid) << report.reason;
+    EXPECT_TRUE(out.metrics.contains("coverage_final"));
+  }
+}
+
+TEST(EnhancedRrt, HistoryCountsFailedExtensionsAndTheSecondaryStopEndsTheSearch) {
+  auto sys = example31<true>();
+  // An unreachable unsafe set is not needed: cap the tree and look at n_j.
+  const auto out = solve(*sys, "enhanced-rrt", 2, {{"history", "tree"}, {"record_failed_extensions", "true"}}, 400);
+  ASSERT_FALSE(out.series.empty());
+  EXPECT_GT(out.metrics.at("failed_extensions_max").get<int>(), 0);
+  bool sorted_series = false;
+  for (const auto& s : out.series)
+    if (s.name == "failed_extensions_sorted") {
+      sorted_series = true;
+      for (std::size_t i = 1; i < s.points.size(); ++i) EXPECT_GE(s.points[i - 1].second, s.points[i].second);
+    }
+  EXPECT_TRUE(sorted_series);
+  auto thermo = thermostat();
+  const auto stopped = solve(*thermo, "enhanced-rrt", 2, {{"coverage_window", "50"}, {"delta_c_min", "10"}}, 100000);
+  EXPECT_EQ(stopped.status, TrialStatus::not_found);  // Δc over 50 nodes is never >= 10
+  EXPECT_LE(stopped.counters.nodes, 52);
+}
+
+TEST(EnhancedRrt, GrowsOneTreePerInitialStateAndItsWitnessValidates) {
+  auto sys = example31<true>({{1.0, 3.0}, {2.0, 1.0}});
+  const auto out = solve(*sys, "enhanced-rrt", 4);
+  ASSERT_EQ(out.status, TrialStatus::falsified);
+  EXPECT_EQ(out.metrics.at("trees").get<int>(), 3);
+  const auto report = validate_witness(*sys, witness_of(*sys, *out.trajectory));
+  EXPECT_TRUE(report.valid) << report.reason;
+}
+
+TEST(EnhancedRrt, BadOptionsAreRejected) {
+  const MethodEntry* m = find_method("enhanced-rrt");
+  EXPECT_THROW(m->make(resolve_options(m->options, {{"selection", "fastest"}})), std::invalid_argument);
+  EXPECT_THROW(m->make(resolve_options(m->options, {{"k", "0"}})), std::invalid_argument);
+  EXPECT_THROW(m->make(resolve_options(m->options, {{"sigma_min", "0.6"}})), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hyfal
