@@ -1,7 +1,8 @@
-// hyfal — command-line front end: list, run, table, validate.
+// hyfal — command-line front end: list, run, table, validate, reproduce.
 // Every bad input gives one line on stderr and exit code 2, before anything is written.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "app/reproduce.hpp"
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
@@ -30,20 +32,7 @@ using namespace hyfal;
 namespace {
 
 // A bad input: reported as one line, exit code 2.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-std::string git_commit() {
-  std::string out;
-  if (FILE* p = popen("git -C '" HYFAL_SOURCE_DIR "' rev-parse --short=12 HEAD 2>/dev/null", "r")) {
-    char buf[64];
-    while (fgets(buf, sizeof buf, p)) out += buf;
-    pclose(p);
-  }
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out.empty() ? "unknown" : out;
-}
+using cli::UsageError;
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -58,13 +47,7 @@ void write_output(const std::string& path, const std::string& text) {
     std::cout << text;
     return;
   }
-  const fs::path p(path), tmp = path + ".tmp";
-  if (p.has_parent_path()) fs::create_directories(p.parent_path());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out || !(out << text) || !out.flush()) throw UsageError(fmt::format("cannot write '{}'", path));
-  }
-  fs::rename(tmp, p);
+  cli::write_file_atomic(path, text);
 }
 
 std::pair<std::string, std::string> split_setting(const std::string& s) {
@@ -88,7 +71,10 @@ int cmd_list() {
     for (const auto& o : m.options)
       fmt::print("      --set {}={:<10} {}\n", o.key, o.default_value.dump(), o.help);
   }
-  fmt::print("tables:\n  (none yet: paper tables come with the algorithm issues)\n");
+  fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|paper)\n");
+  const auto tables = cli::all_tables();
+  if (tables.empty()) fmt::print("  (none)\n");
+  for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.table->id, t.table->title, t.suite->name);
   return 0;
 }
 
@@ -109,54 +95,25 @@ int cmd_run(const RunArgs& a) {
   if (!suite) throw UsageError(fmt::format("unknown suite '{}' (see 'hyfal list')", a.suite));
   const MethodEntry* method = find_method(a.method);
   if (!method) throw UsageError(fmt::format("unknown method '{}' (see 'hyfal list')", a.method));
-  std::vector<std::pair<std::string, std::string>> instance_sets, method_sets;
-  for (const auto& s : a.sets) {
-    auto kv = split_setting(s);
-    if (has_option(suite->parameters, kv.first))
-      instance_sets.push_back(std::move(kv));
-    else if (has_option(method->options, kv.first))
-      method_sets.push_back(std::move(kv));
-    else
-      throw UsageError(fmt::format("--set {}: suite '{}' and method '{}' have no setting '{}' (see 'hyfal list')",
-                                   s, suite->name, method->name, kv.first));
-  }
-  const Json instance = resolve_options(suite->parameters, instance_sets);
-  const Json options = resolve_options(method->options, method_sets);
-  std::shared_ptr<const System> system;
-  try {
-    system = suite->make(instance);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
-  const Json config = {{"master_seed", a.seed}, {"max_nodes", a.max_nodes}, {"timeout_s", a.timeout},
-                       {"options", options}};
+  cli::check_directory_creatable(a.witness_dir, "--witness-dir");
+  cli::TrialGroupSpec spec;
+  spec.experiment = a.experiment;
+  spec.suite = suite;
+  spec.method = method;
+  for (const auto& s : a.sets) spec.settings.push_back(split_setting(s));
+  spec.trials = a.trials;
+  spec.timeout_s = a.timeout;
+  spec.max_nodes = a.max_nodes;
+  spec.seed = a.seed;
+  const cli::TrialGroup group = cli::resolve_trial_group(spec);
 
   TrialStore store = TrialStore::open(a.db);
-  TrialKey base{a.experiment, suite->name, instance.dump(), method->name, config.dump(), 0};
-  const auto stored = store.stored_trial_indices(base);
-  std::vector<TrialJob> jobs;
-  for (int i = 0; i < a.trials; ++i) {
-    if (stored.count(i)) continue;
-    TrialJob job;
-    job.key = base;
-    job.key.trial_index = i;
-    job.system = system;
-    job.method = method;
-    job.method_options = options;
-    job.limits = {a.timeout, a.max_nodes};
-    job.seed = trial_seed(a.seed, base.suite, base.instance, base.method, i);
-    jobs.push_back(std::move(job));
-  }
+  const std::vector<TrialJob> jobs = cli::prepare_jobs(group, store.stored_trial_indices(group.base));
   if (!a.quiet && jobs.size() < static_cast<std::size_t>(a.trials))
     fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", a.trials - jobs.size(),
                a.trials, a.db);
 
-  EngineOptions eo;
-  eo.threads = a.threads;
-  eo.witness_dir = a.witness_dir;
-  eo.progress = !a.quiet && isatty(STDERR_FILENO);
-  eo.host = host_name();
-  eo.git_commit = git_commit();
+  const EngineOptions eo = cli::make_engine_options(a.threads, a.witness_dir, !a.quiet && isatty(STDERR_FILENO));
   std::size_t errors = 0;
   run_trials(jobs, eo, [&](const TrialRecord& r) {
     store.insert(r);
@@ -168,9 +125,7 @@ int cmd_run(const RunArgs& a) {
 
   std::vector<TrialRecord> rows;
   for (auto& r : store.load(a.experiment))
-    if (r.key.suite == base.suite && r.key.instance == base.instance && r.key.method == base.method &&
-        r.key.config == base.config && r.key.trial_index < a.trials)
-      rows.push_back(std::move(r));
+    if (group.contains(r)) rows.push_back(std::move(r));
   const auto groups = summarize_trials(rows);
   std::cout << (a.format == "csv" ? to_csv(groups) : to_markdown(groups));
   if (!a.quiet) {
@@ -225,6 +180,40 @@ int cmd_validate(const std::string& file) {
 
 }  // namespace
 
+// Number checks with short messages (CLI11's ranges print DBL_MAX in full and let NaN pass).
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& s) {
+        try {
+          std::size_t used = 0;
+          const double v = std::stod(s, &used);
+          if (used == s.size() && std::isfinite(v) && v > 0.0) return std::string();
+        } catch (const std::exception&) {
+        }
+        return "'" + s + "' is not a positive number";
+      },
+      "POSITIVE");
+}
+CLI::Validator non_negative_integer() {
+  return CLI::Validator(
+      [](std::string& s) {
+        return !s.empty() && s.size() <= 19 && s.find_first_not_of("0123456789") == std::string::npos
+                   ? std::string()
+                   : "'" + s + "' is not a non-negative integer";
+      },
+      "UINT");
+}
+CLI::Validator positive_integer() {
+  return CLI::Validator(
+      [](std::string& s) {
+        return !s.empty() && s.size() <= 18 && s.find_first_not_of("0123456789") == std::string::npos &&
+                       s.find_first_not_of('0') != std::string::npos
+                   ? std::string()
+                   : "'" + s + "' is not a positive integer";
+      },
+      "N>0");
+}
+
 int main(int argc, char** argv) {
   CLI::App app{
       "hyfal: parallel benchmark harness for falsification of hybrid systems with RRT-family planners.\n"
@@ -240,11 +229,12 @@ int main(int argc, char** argv) {
   run->add_option("--suite", ra.suite, "suite name (see 'hyfal list')")->required();
   run->add_option("--method", ra.method, "method name")->capture_default_str();
   run->add_option("--set", ra.sets, "instance parameter or method option, key=value (repeatable)");
-  run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1)")->check(CLI::PositiveNumber)->capture_default_str();
-  run->add_option("--threads", ra.threads, "worker threads, 0 = all cores")->check(CLI::NonNegativeNumber)->capture_default_str();
-  run->add_option("--timeout", ra.timeout, "per-trial wall-clock limit, seconds")->check(CLI::PositiveNumber)->capture_default_str();
-  run->add_option("--max-nodes", ra.max_nodes, "per-trial node cap")->check(CLI::PositiveNumber)->capture_default_str();
-  run->add_option("--seed", ra.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")->capture_default_str();
+  run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1)")->check(positive_integer())->capture_default_str();
+  run->add_option("--threads", ra.threads, "worker threads, 0 = all cores")->check(non_negative_integer())->capture_default_str();
+  run->add_option("--timeout", ra.timeout, "per-trial wall-clock limit, seconds")->check(positive_number())->capture_default_str();
+  run->add_option("--max-nodes", ra.max_nodes, "per-trial node cap")->check(positive_integer())->capture_default_str();
+  run->add_option("--seed", ra.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
+      ->check(non_negative_integer())->capture_default_str();
   run->add_option("--experiment", ra.experiment, "experiment name stored with each trial")->capture_default_str();
   run->add_option("--db", ra.db, "SQLite results database")->capture_default_str();
   run->add_option("--witness-dir", ra.witness_dir, "directory for witness JSON files")->capture_default_str();
@@ -258,10 +248,34 @@ int main(int argc, char** argv) {
   table->add_option("--format", tformat, "md or csv")->check(CLI::IsMember({"md", "csv"}))->capture_default_str();
   table->add_option("--output,-o", tout, "write to this file instead of stdout");
 
+  cli::ReproduceArgs pa;
+  auto* reproduce = app.add_subcommand(
+      "reproduce", "run a paper table's rows (resuming) and write <out-dir>/ID.md and .csv beside the paper's numbers");
+  reproduce->add_option("id", pa.id, "table id (see 'hyfal list')")->required();
+  reproduce->add_option("--profile", pa.profile, "smoke (seconds), quick (minutes) or paper (the paper's set-up)")
+      ->required()
+      ->check(CLI::IsMember({"smoke", "quick", "paper"}));
+  reproduce->add_option("--threads", pa.threads, "worker threads, 0 = all cores")->check(non_negative_integer())->capture_default_str();
+  reproduce->add_option("--seed", pa.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
+      ->check(non_negative_integer())
+      ->capture_default_str();
+  reproduce->add_option("--db", pa.db, "SQLite results database")->capture_default_str();
+  reproduce->add_option("--witness-dir", pa.witness_dir, "directory for witness JSON files")->capture_default_str();
+  reproduce->add_option("--out-dir", pa.out_dir, "where ID.md and ID.csv are written")->capture_default_str();
+
   std::string vfile;
   auto* validate = app.add_subcommand("validate", "re-simulate a witness JSON file with a tight integrator and check it");
   validate->add_option("file", vfile, "witness JSON file")->required();
 
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string cmd = argv[1];
+    bool known = false;
+    for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) known = known || sub->get_name() == cmd;
+    if (!known) {
+      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce; see 'hyfal --help')\n", cmd);
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -277,6 +291,7 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(ra);
     if (*table) return cmd_table(tdb, texp, tformat, tout);
     if (*validate) return cmd_validate(vfile);
+    if (*reproduce) return cli::cmd_reproduce(pa);
   } catch (const UsageError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;

@@ -5,6 +5,11 @@ namespace hyfal {
 const std::vector<SuiteEntry>& all_suites() {
   static const std::vector<SuiteEntry> suites = {
       thermostat_suite(),
+      example31_suite(),
+      linear_suite(),
+      hovercraft_suite(),
+      guard_intruder_suite(),
+      navigation_suite(),
   };
   return suites;
 }

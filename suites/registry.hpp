@@ -8,6 +8,11 @@
 namespace hyfal {
 
 SuiteEntry thermostat_suite();
+SuiteEntry example31_suite();
+SuiteEntry linear_suite();
+SuiteEntry hovercraft_suite();
+SuiteEntry guard_intruder_suite();
+SuiteEntry navigation_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 const SuiteEntry* find_suite(std::string_view name);

@@ -69,7 +69,7 @@ std::shared_ptr<const System> make_thermostat(const Json& instance) {
   const double window = instance.at("sample_window").get<double>();
   if (!(horizon > 2.0)) throw std::invalid_argument("thermostat: horizon must be > 2 (minutes)");
   if (!(step > 0.0)) throw std::invalid_argument("thermostat: step must be > 0");
-  if (levels < 2) throw std::invalid_argument("thermostat: input_levels must be >= 2");
+  if (levels < 2 || levels > 101) throw std::invalid_argument("thermostat: input_levels must be in [2, 101]");
   if (!(window > 0.0)) throw std::invalid_argument("thermostat: sample_window must be > 0");
   SystemInfo info;
   info.suite = "thermostat";
@@ -99,7 +99,21 @@ SuiteEntry thermostat_suite() {
            {"step", 0.1, "duration δt of one tree extension, minutes"},
            {"input_levels", 5, "points per input dimension in Ū (grid, endpoints included)"},
            {"sample_window", 10.0, "x_rand draws x2 and x3 from [0, sample_window]"}},
-          make_thermostat};
+          make_thermostat,
+          {PaperTable{
+              "kim-table1",
+              "Thermostat: Euclidean metric vs. time-to-go t2go for the proximal node",
+              "seed 000 Table I (10 trials, 1 GHz PC)",
+              "thermostat",
+              {{"nodes", TableMetric::nodes, ""}, {"time (s)", TableMetric::time_s, ""}},
+              {{"Euclidean", "enhanced-rrt", {}, {2284.0, 376.4}},
+               {"t2go", "enhanced-rrt", {{"selection", "t2go"}}, {1627.0, 231.0}}},
+              {3, 10.0, 1'000'000, {}},
+              {10, 60.0, 1'000'000, {}},
+              {10, 3600.0, 1'000'000, {}},
+              "Paper: 10 trials on a 1 GHz PC, so its times are not comparable with ours; compare the node "
+              "counts and the ordering of the rows. δt, Ū and the sampling window are ours (see the header "
+              "of suites/thermostat.cpp)."}}};
 }
 
 }  // namespace hyfal

@@ -1,0 +1,279 @@
+#include "app/reproduce.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/options.hpp"
+#include "core/rng.hpp"
+#include "results/paper_report.hpp"
+#include "suites/registry.hpp"
+
+#ifndef HYFAL_SOURCE_DIR
+#define HYFAL_SOURCE_DIR "."
+#endif
+
+namespace fs = std::filesystem;
+
+namespace hyfal::cli {
+
+std::string git_commit() {
+  std::string out;
+  if (FILE* p = popen("git -C '" HYFAL_SOURCE_DIR "' rev-parse --short=12 HEAD 2>/dev/null", "r")) {
+    char buf[64];
+    while (fgets(buf, sizeof buf, p)) out += buf;
+    pclose(p);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out.empty() ? "unknown" : out;
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const fs::path p(path), tmp = path + ".tmp";
+  try {
+    if (p.has_parent_path()) fs::create_directories(p.parent_path());
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out || !(out << text) || !out.flush()) {
+        out.close();
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw UsageError(fmt::format("cannot write '{}'", path));
+      }
+    }
+    fs::rename(tmp, p);
+  } catch (const fs::filesystem_error& e) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw UsageError(fmt::format("cannot write '{}': {}", path, e.code().message()));
+  }
+}
+
+void check_directory_creatable(const std::string& dir, const std::string& what) {
+  std::error_code ec;
+  fs::path p = fs::absolute(fs::path(dir), ec);
+  if (ec) throw UsageError(fmt::format("{} '{}': {}", what, dir, ec.message()));
+  // The deepest part of the path that exists must be a directory: the rest can then be created.
+  while (!p.empty()) {
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::exists(st)) {
+      if (!fs::is_directory(st)) throw UsageError(fmt::format("{} '{}': '{}' is not a directory", what, dir, p.string()));
+      if (::access(p.c_str(), W_OK | X_OK) != 0)
+        throw UsageError(fmt::format("{} '{}': '{}' is not writable", what, dir, p.string()));
+      return;
+    }
+    if (p == p.parent_path()) return;
+    p = p.parent_path();
+  }
+}
+
+// --- shared by run and reproduce --------------------------------------------------------------
+
+bool TrialGroup::contains(const TrialRecord& r) const {
+  return r.key.experiment == base.experiment && r.key.suite == base.suite && r.key.instance == base.instance &&
+         r.key.method == base.method && r.key.config == base.config && r.key.trial_index >= 0 &&
+         r.key.trial_index < spec.trials;
+}
+
+TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
+  const SuiteEntry* suite = spec.suite;
+  const MethodEntry* method = spec.method;
+  Settings instance_sets, method_sets;
+  for (const auto& kv : spec.settings) {
+    if (has_option(suite->parameters, kv.first))
+      instance_sets.push_back(kv);
+    else if (has_option(method->options, kv.first))
+      method_sets.push_back(kv);
+    else
+      throw UsageError(fmt::format("--set {}={}: suite '{}' and method '{}' have no setting '{}' (see 'hyfal list')",
+                                   kv.first, kv.second, suite->name, method->name, kv.first));
+  }
+  TrialGroup g;
+  g.spec = spec;
+  g.instance = resolve_options(suite->parameters, instance_sets);
+  g.options = resolve_options(method->options, method_sets);
+  try {
+    g.system = suite->make(g.instance);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  g.config = {{"master_seed", spec.seed}, {"max_nodes", spec.max_nodes}, {"timeout_s", spec.timeout_s},
+              {"options", g.options}};
+  g.base = TrialKey{spec.experiment, suite->name, g.instance.dump(), method->name, g.config.dump(), 0};
+  return g;
+}
+
+std::vector<TrialJob> prepare_jobs(const TrialGroup& g, const std::set<std::int64_t>& stored) {
+  std::vector<TrialJob> jobs;
+  for (int i = 0; i < g.spec.trials; ++i) {
+    if (stored.count(i)) continue;
+    TrialJob job;
+    job.key = g.base;
+    job.key.trial_index = i;
+    job.system = g.system;
+    job.method = g.spec.method;
+    job.method_options = g.options;
+    job.limits = {g.spec.timeout_s, g.spec.max_nodes};
+    job.seed = trial_seed(g.spec.seed, g.base.suite, g.base.instance, g.base.method, i);
+    jobs.push_back(std::move(job));
+  }
+  return jobs;
+}
+
+EngineOptions make_engine_options(int threads, const std::string& witness_dir, bool progress) {
+  EngineOptions eo;
+  eo.threads = threads;
+  eo.witness_dir = witness_dir;
+  eo.progress = progress;
+  eo.host = host_name();
+  eo.git_commit = git_commit();
+  return eo;
+}
+
+std::vector<TableRef> all_tables() {
+  std::vector<TableRef> refs;
+  for (const SuiteEntry& s : all_suites())
+    for (const PaperTable& t : s.tables) refs.push_back({&s, &t});
+  return refs;
+}
+
+// --- reproduce --------------------------------------------------------------------------------
+
+namespace {
+
+std::string utc_now() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  return fmt::format("{:04}-{:02}-{:02} {:02}:{:02}:{:02} UTC", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                     tm.tm_hour, tm.tm_min, tm.tm_sec);
+}
+
+const TableProfile& profile_of(const PaperTable& table, const std::string& name) {
+  if (name == "smoke") return table.smoke;
+  if (name == "quick") return table.quick;
+  if (name == "paper") return table.paper;
+  throw UsageError(fmt::format("--profile {}: expected smoke, quick or paper", name));
+}
+
+}  // namespace
+
+int cmd_reproduce(const ReproduceArgs& a) {
+  // Everything is checked before the database is opened, so a bad input writes nothing.
+  const SuiteEntry* suite = nullptr;
+  const PaperTable* table = nullptr;
+  for (const TableRef& ref : all_tables())
+    if (ref.table->id == a.id) {
+      suite = ref.suite;
+      table = ref.table;
+      break;
+    }
+  if (!table) throw UsageError(fmt::format("unknown table '{}' (see 'hyfal list')", a.id));
+  if (!table->suite.empty() && table->suite != suite->name) {
+    suite = find_suite(table->suite);
+    if (!suite) throw UsageError(fmt::format("table '{}': unknown suite '{}'", table->id, table->suite));
+  }
+  const TableProfile& profile = profile_of(*table, a.profile);
+  if (profile.trials < 1 || !(profile.timeout_s > 0.0) || profile.max_nodes < 1)
+    throw UsageError(fmt::format("table '{}' profile '{}': trials, timeout and max_nodes must be positive",
+                                 table->id, a.profile));
+  if (table->rows.empty()) throw UsageError(fmt::format("table '{}' has no rows", table->id));
+  const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
+  check_directory_creatable(a.out_dir, "--out-dir");
+  check_directory_creatable(a.witness_dir, "--witness-dir");
+
+  std::vector<TrialGroup> groups;
+  for (const PaperRow& row : table->rows) {
+    const MethodEntry* method = find_method(row.method);
+    if (!method)
+      throw UsageError(fmt::format("table '{}' row '{}': method '{}' is not registered (see 'hyfal list')",
+                                   table->id, row.label, row.method));
+    TrialGroupSpec spec;
+    spec.experiment = experiment;
+    spec.suite = suite;
+    spec.method = method;
+    spec.settings = profile.settings;  // then the row's own: later wins in resolve_options
+    spec.settings.insert(spec.settings.end(), row.settings.begin(), row.settings.end());
+    spec.trials = profile.trials;
+    spec.timeout_s = profile.timeout_s;
+    spec.max_nodes = profile.max_nodes;
+    spec.seed = a.seed;
+    try {
+      groups.push_back(resolve_trial_group(spec));
+    } catch (const std::invalid_argument& e) {  // OptionError
+      throw UsageError(fmt::format("table '{}' row '{}': {}", table->id, row.label, e.what()));
+    } catch (const UsageError& e) {
+      throw UsageError(fmt::format("table '{}' row '{}': {}", table->id, row.label, e.what()));
+    }
+  }
+
+  TrialStore store = TrialStore::open(a.db);
+  // Rows that resolve to the same trials (same instance, method and config) share them.
+  std::map<std::string, std::size_t> first_row_of_key;
+  std::vector<TrialJob> jobs;
+  std::size_t stored_count = 0;
+  for (std::size_t r = 0; r < groups.size(); ++r) {
+    const TrialKey& k = groups[r].base;
+    const std::string key = Json::array({k.suite, k.instance, k.method, k.config}).dump();
+    if (!first_row_of_key.emplace(key, r).second) continue;
+    const auto stored = store.stored_trial_indices(k);
+    auto row_jobs = prepare_jobs(groups[r], stored);
+    stored_count += static_cast<std::size_t>(profile.trials) - row_jobs.size();
+    for (auto& j : row_jobs) jobs.push_back(std::move(j));
+  }
+  const std::size_t total = first_row_of_key.size() * static_cast<std::size_t>(profile.trials);
+  if (stored_count > 0)
+    fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, total, a.db);
+
+  const EngineOptions eo = make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0);
+  std::size_t errors = 0;
+  run_trials(jobs, eo, [&](const TrialRecord& r) {  // every row's jobs in one pool
+    store.insert(r);
+    if (r.status == TrialStatus::error) {
+      ++errors;
+      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
+    }
+  });
+
+  std::vector<std::vector<TrialRecord>> rows_trials(groups.size());
+  for (auto& record : store.load(experiment))
+    for (std::size_t r = 0; r < groups.size(); ++r)
+      if (groups[r].contains(record)) rows_trials[r].push_back(record);
+
+  PaperReport report = make_paper_report(*table, rows_trials);
+  if (report.suite.empty()) report.suite = suite->name;
+  ReportHeader header;
+  header.profile = a.profile;
+  header.trials = profile.trials;
+  header.timeout_s = profile.timeout_s;
+  header.max_nodes = profile.max_nodes;
+  header.profile_settings = profile.settings;
+  header.seed = a.seed;
+  header.threads = a.threads > 0 ? a.threads : default_thread_count();
+  header.host = eo.host;
+  header.nproc = static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN));
+  header.cpu_model = cpu_model_name();
+  header.date_utc = utc_now();
+  header.git_commit = eo.git_commit;
+  header.experiment = experiment;
+
+  const std::string markdown = to_markdown(report, header);
+  const fs::path out_dir(a.out_dir);
+  write_file_atomic((out_dir / (table->id + ".md")).string(), markdown);
+  write_file_atomic((out_dir / (table->id + ".csv")).string(), to_csv(report, header));
+  std::cout << markdown << std::flush;
+  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, jobs.size(),
+             (out_dir / (table->id + ".md")).string(), (out_dir / (table->id + ".csv")).string(), a.db);
+  return errors ? 1 : 0;
+}
+
+}  // namespace hyfal::cli

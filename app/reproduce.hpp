@@ -1,0 +1,86 @@
+// What `hyfal run` and `hyfal reproduce` share: turning (suite, method, settings, limits) into
+// trial jobs the way `run` always has, and the `reproduce` command itself.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/paper_table.hpp"
+#include "core/suite.hpp"
+#include "parallel/trial_engine.hpp"
+#include "results/store.hpp"
+
+namespace hyfal::cli {
+
+// A bad input: reported as one line on stderr, exit code 2, before anything is written.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The short commit of the source tree hyfal was built from, or "unknown".
+std::string git_commit();
+
+// Writes text to path through path.tmp and a rename, creating parent directories. Throws
+// UsageError (one line) if it cannot; no .tmp file is left behind.
+void write_file_atomic(const std::string& path, const std::string& text);
+
+// Throws UsageError "<what> '<dir>': ..." unless dir is a directory or could be created (its
+// deepest existing ancestor is a writable directory). Creates nothing.
+void check_directory_creatable(const std::string& dir, const std::string& what);
+
+// One group of trials: a suite instance, a method with its options, limits and a master seed.
+struct TrialGroupSpec {
+  std::string experiment = "default";
+  const SuiteEntry* suite = nullptr;
+  const MethodEntry* method = nullptr;
+  Settings settings;  // each key routed to the suite's parameters first, then the method's options
+  int trials = 10;
+  double timeout_s = 60.0;
+  std::int64_t max_nodes = 1'000'000;
+  std::uint64_t seed = 1;
+};
+
+// A spec resolved: the instance and options in canonical JSON, the system built, the trial key.
+struct TrialGroup {
+  TrialGroupSpec spec;
+  Json instance, options, config;
+  std::shared_ptr<const System> system;
+  TrialKey base;  // trial_index 0
+
+  // Whether a stored trial belongs to this group (same key but the index, index < trials).
+  bool contains(const TrialRecord& record) const;
+};
+
+// Routes and resolves the settings and builds the system; writes nothing. Throws UsageError for
+// a setting neither the suite nor the method has, or an instance the suite rejects, and
+// OptionError for a value of the wrong type.
+TrialGroup resolve_trial_group(const TrialGroupSpec& spec);
+
+// The jobs of the group's trial indices 0..trials-1 not in `stored`, with their seeds.
+std::vector<TrialJob> prepare_jobs(const TrialGroup& group, const std::set<std::int64_t>& stored);
+
+// Engine options both commands use (host, git commit, progress on a terminal).
+EngineOptions make_engine_options(int threads, const std::string& witness_dir, bool progress);
+
+struct ReproduceArgs {
+  std::string id, profile;
+  int threads = 0;
+  std::uint64_t seed = 1;
+  std::string db = "results/hyfal.sqlite", witness_dir = "results/witnesses", out_dir = "results/tables";
+};
+
+// hyfal reproduce ID --profile P: runs the table's rows (resuming), writes OUT/ID.md and
+// OUT/ID.csv and prints the Markdown. Returns 1 if a trial ended in an error, else 0.
+int cmd_reproduce(const ReproduceArgs& args);
+
+// Every table of every suite, with its suite.
+struct TableRef {
+  const SuiteEntry* suite;
+  const PaperTable* table;
+};
+std::vector<TableRef> all_tables();
+
+}  // namespace hyfal::cli

@@ -1,0 +1,574 @@
+// Navigation — seed 002 Sect. 4.1 (Plaku, Kavraki & Vardi, HyDICE; after Fehnker & Ivančić's
+// navigation benchmark): a robotic vehicle whose second-order dynamics change with the terrain.
+//
+// Terrains and modes. The environment [0, n s]² is divided into n x n square terrains of side
+// s = terrain_size; terrain q = row * n + col covers [col s, (col+1) s] x [row s, (row+1) s]
+// and is mode q (Mode = terrain index, row-major). Its dynamics is drawn uniformly from
+// {SCar, SUni, SDDrive} (seed 002 Sect. 4.1.3).
+//
+// State x = (x, y, θ, a, b), input u = (u0, u1), the same layout for the three vehicles
+// (seed 002 Sect. 4.1.1, the paper's constants):
+//   SCar    (a, b) = (v, φ):     x' = v cos θ, y' = v sin θ, θ' = v tan(φ) / L, v' = u0, φ' = u1
+//           L = 0.8 m, |v| <= 3 m/s, |φ| <= 40°, |u0| <= 0.8 m/s², |u1| <= 25°/s
+//   SUni    (a, b) = (v, ω):     x' = v cos θ, y' = v sin θ, θ' = ω, v' = u0, ω' = u1
+//           |v| <= 3 m/s, |ω| <= 20°/s, |u0| <= 0.3 m/s², |u1| <= 10°/s²
+//   SDDrive (a, b) = (ω_l, ω_r): x' = r/2 (ω_l + ω_r) cos θ, y' = r/2 (ω_l + ω_r) sin θ,
+//           θ' = r (ω_r - ω_l) / L, ω_l' = u0, ω_r' = u1
+//           r = 0.2 m, L = 0.8 m, |ω_l|, |ω_r| <= 5°/s, |u0|, |u1| <= 10°/s²
+//   Taken literally, SDDrive's 5°/s wheels give a top speed r ω_max = 1.75 cm/s and a top turn
+//   rate 2.5°/s: an SDDrive terrain takes about a minute to cross. We keep the paper's numbers.
+// The bounds on (a, b) are part of the mode's invariant, not a saturation in the flow: a
+// saturated right-hand side has a kink where fixed-step RK4 loses its order, and the witness
+// validator (adaptive Dormand-Prince) would then disagree with the tree by O(ε²). With the
+// invariant the flow stays smooth and a propagation that would exceed a bound stops at its last
+// valid state (seed 002 Alg. 3); Ū contains u = 0 (odd input_levels), so the vehicle can cruise
+// at a bound. input_affine = true (a' = u0, b' = u1).
+//
+// Walls (seed 002 Sect. 4.1.3). All 2n(n-1) interior walls are visited in a random order
+// (Fisher-Yates shuffle); a wall between two terrains in distinct union-find sets is removed and
+// the sets joined (randomized Kruskal: the removed walls form a spanning tree of the grid). Then
+// each remaining wall is kept with probability p = 0.9 (removed with 0.1). The outer boundary
+// is a wall. Storage: 2 bits per terrain (east/north side open), 2 bits per terrain for its
+// vehicle; n = 1024 takes 512 KiB, generation needs a temporary 13 MB (shuffled wall list and
+// union-find parents/ranks). No per-mode heap object; every lookup is O(1) bit arithmetic.
+//
+// Transitions. guard_count(q) = 4, guard k = side k (0 east, 1 north, 2 west, 3 south):
+//   open side:  g_k = (distance of (x, y) beyond side k) - h, h = 1e-9 m; jump = the neighbour
+//               across the side, with (a, b) := (0, 0) (the paper resets the velocity
+//               components; and (a, b) mean different things in the next terrain's vehicle).
+//   wall side:  g_k = -1 (never enabled); the invariant forbids (x, y) on or beyond the wall, so
+//               a propagation into a wall stops at its last valid state (PropagationEnd::invariant).
+//   Hysteresis h: transitions are taken at the last time before the guard turns positive, i.e.
+//   within |v| * 1e-12 s of the crossing; with h = 0 the neighbour's guard back across the same
+//   side would already be positive there and the vehicle would jump back at once, forever.
+//   h = 1e-9 m is far above that localization error and physically irrelevant.
+// Invariant of mode q: |a| <= a_max, |b| <= b_max of its vehicle, and (x, y) strictly inside
+// the terrain or beyond an open side (at most h beyond it: the guard fires there).
+//
+// Drivers (seed 002 Sect. 4.1.2). The paper's drivers draw u from a state-dependent interval;
+// in hyfal a method applies u from Ū_q, which cannot depend on the state. So Ū_q is a grid over
+// the vehicle's input box (input_levels points per input, endpoints included; default 3: full
+// negative / zero / full positive, 9 inputs), the same for every driver, and the drivers are
+// navigation_driver_interval() (suites/navigation.hpp) for planners that draw u from them (the
+// HyDICE planner). The pseudo-code is implemented literally, reading "0.0.2" as "0, 0.2":
+//   Random  f(a,i,c,L,R) = [-m_i, m_i]
+//   Student a in (0.2, 1]: [-L m_i, R(c-1) m_i]; a in [-1, -0.2): [R(1-c) m_i, L m_i]; else Random
+//   Highway b in {0.4, 0.6, 0.8, 1}: a in (b-0.2, b]: [-L b m_i, R(c-b) m_i];
+//           a in [-b, 0.2-b): [R(b-c) m_i, L b m_i]; else Random
+//   SCar:    u0 = f(v/v_max, 0, 0.2, 1, 1),   u1 = Random
+//   SUni:    u0 = f(v/v_max, 0, 0.2, 1, 1),   u1 = f(ω/ω_max, 1, 0.2, 1, 1)
+//   SDDrive: u0 = f(a, 0, 1.2, 0, 0.25),      u1 = -f(a, 1, 1.2, 0, 0.25),  a = (ω_l+ω_r)/(2 ω_max)
+// (m_i = the input's bound. As printed, Highway with c = 0.2 brakes whenever |a| > 0.2; we do
+// not second-guess it.) The driver is part of the instance key.
+//
+// Safety properties (seed 002 Sect. 4.1.4): 40 per instance, (start, unsafe) terrains drawn
+// uniformly from the instance seed, distinct. `property` picks one. Start: the centre of the
+// start terrain, θ = 0, at rest. Unsafe: (x, y) in the unsafe terrain (closed square), any mode;
+// s = signed Euclidean distance to that square (s <= 0 inside). n >= 2 (two distinct terrains).
+//
+// Randomness: SplitMix64 streams keyed by (seed, purpose) — vehicles, wall order, wall keeping,
+// properties — and Lemire's unbiased bounded integers, so an instance is identical on every
+// platform (std::shuffle and std::uniform_int_distribution are implementation-defined). The
+// maze does not depend on driver or property.
+//
+// Choices for the planners (the paper gives none; kept here, in one place):
+//  - terrain_size s = 1 m (the unit cells of Fehnker & Ivančić's benchmark). From rest, SCar
+//    crosses 1 m in 1.6 s, SUni in 2.6 s, SDDrive in about a minute (see above).
+//  - T = step = 1 s per extension; ε = integration_step = 0.01 s, fixed-step RK4 (the fastest
+//    rate, SCar's θ' <= 3 tan 40° / 0.8 = 3.1 rad/s, bounds the RK4 error at ~1e-8 over an
+//    extension, well inside the 1e-6 witness tolerance; RRT witnesses re-simulate to ~1e-12).
+//  - x_rand: (x, y) over the whole environment, θ in [-π, π] (θ is not wrapped), a in [-3, 3],
+//    b in [-40°, 40°] (the largest bounds over the three vehicles).
+//  - Metric weights (1, 1, (0.1 s)², (0.1 s / 3)², (0.1 s / 40°)²): position dominates; a
+//    radian of heading, the full speed range 3 m/s, or a full 40° of b each count as a tenth of
+//    a terrain.
+//  - goal_point: the centre of the unsafe terrain, θ = 0, at rest.
+//  - Coverage grid over (x, y), spacing n s / min(4n, 1024): a quarter terrain up to n = 256,
+//    then at most 1025 x 1025 points (spacing s at n = 1024, 4 MB of grid).
+#include "suites/navigation.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "core/rng.hpp"
+#include "suites/registry.hpp"
+
+namespace hyfal {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kCarL = 0.8;       // SCar: distance between the axles, m
+constexpr double kWheelR = 0.2;     // SDDrive: wheel radius, m
+constexpr double kAxleL = 0.8;      // SDDrive: axle length, m
+constexpr double kHysteresis = 1e-9;  // m, see the header
+
+constexpr NavVehicleLimits kLimits[3] = {
+    {3.0, 40.0 * kDeg, 0.8, 25.0 * kDeg},         // SCar: v, φ; u0 m/s², u1 rad/s
+    {3.0, 20.0 * kDeg, 0.3, 10.0 * kDeg},         // SUni: v, ω; u0 m/s², u1 rad/s²
+    {5.0 * kDeg, 5.0 * kDeg, 10.0 * kDeg, 10.0 * kDeg},  // SDDrive: ω_l, ω_r; rad/s²
+};
+
+// A SplitMix64 stream: platform-independent, one per purpose.
+class Stream {
+ public:
+  Stream(std::uint64_t seed, std::string_view purpose) : s_(splitmix64(seed ^ fnv1a(purpose))) {}
+  std::uint64_t next() {
+    s_ += 0x9e3779b97f4a7c15ULL;
+    std::uint64_t z = s_;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  // Uniform in [0, range), unbiased (Lemire 2019).
+  std::uint64_t below(std::uint64_t range) {
+    unsigned __int128 m = static_cast<unsigned __int128>(next()) * range;
+    auto low = static_cast<std::uint64_t>(m);
+    if (low < range) {
+      const std::uint64_t t = (0 - range) % range;
+      while (low < t) {
+        m = static_cast<unsigned __int128>(next()) * range;
+        low = static_cast<std::uint64_t>(m);
+      }
+    }
+    return static_cast<std::uint64_t>(m >> 64);
+  }
+  double uniform01() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t s_;
+};
+
+NavSide side_of(int k) { return static_cast<NavSide>(k); }
+
+}  // namespace
+
+NavVehicleLimits navigation_limits(NavVehicle v) { return kLimits[static_cast<int>(v)]; }
+
+std::string_view navigation_vehicle_name(NavVehicle v) {
+  switch (v) {
+    case NavVehicle::scar: return "SCar";
+    case NavVehicle::suni: return "SUni";
+    case NavVehicle::sddrive: return "SDDrive";
+  }
+  return "?";
+}
+
+std::string_view navigation_driver_name(NavDriver d) {
+  switch (d) {
+    case NavDriver::random: return "random";
+    case NavDriver::student: return "student";
+    case NavDriver::highway: return "highway";
+  }
+  return "?";
+}
+
+NavDriver navigation_driver_from_name(std::string_view name) {
+  if (name == "random") return NavDriver::random;
+  if (name == "student") return NavDriver::student;
+  if (name == "highway") return NavDriver::highway;
+  throw std::invalid_argument(fmt::format("navigation: driver must be random, student or highway, not '{}'", name));
+}
+
+// --- the instance ------------------------------------------------------------------------------
+
+NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, double terrain_size,
+                                                double keep_probability) {
+  if (n < 2 || n > 4096) throw std::invalid_argument("navigation: n must be in [2, 4096]");
+  if (!(terrain_size > 0.0) || !std::isfinite(terrain_size))
+    throw std::invalid_argument("navigation: terrain_size must be a finite number > 0");
+  if (!(keep_probability >= 0.0 && keep_probability <= 1.0))
+    throw std::invalid_argument("navigation: the wall keep probability must be in [0, 1]");
+  NavigationInstance g;
+  g.n_ = n;
+  g.seed_ = seed;
+  g.size_ = terrain_size;
+  const std::uint32_t un = static_cast<std::uint32_t>(n);
+  const std::uint32_t count = un * un;
+  const std::size_t words = (count + 31) / 32;
+  g.vehicles_.assign(words, 0);
+  g.open_.assign(words, 0);
+
+  Stream vehicles(seed, "navigation/vehicles");
+  for (std::uint32_t q = 0; q < count; ++q)
+    g.vehicles_[q >> 5] |= vehicles.below(3) << ((q & 31) * 2);
+
+  {  // Randomized Kruskal. Wall w = 2 q + d: the east (d = 0) or north (d = 1) side of q.
+    std::vector<std::uint32_t> walls;
+    walls.reserve(2 * static_cast<std::size_t>(un) * (un - 1));
+    for (std::uint32_t q = 0; q < count; ++q) {
+      if (q % un + 1 < un) walls.push_back(2 * q);
+      if (q / un + 1 < un) walls.push_back(2 * q + 1);
+    }
+    Stream order(seed, "navigation/wall-order");
+    for (std::size_t i = walls.size() - 1; i > 0; --i) std::swap(walls[i], walls[order.below(i + 1)]);
+    std::vector<std::uint32_t> parent(count);
+    std::vector<std::uint8_t> rank(count, 0);
+    for (std::uint32_t q = 0; q < count; ++q) parent[q] = q;
+    auto find = [&](std::uint32_t q) {
+      while (parent[q] != q) q = parent[q] = parent[parent[q]];  // path halving
+      return q;
+    };
+    std::uint32_t joined = 0;
+    for (const std::uint32_t w : walls) {
+      const std::uint32_t q = w >> 1, d = w & 1;
+      std::uint32_t a = find(q), b = find(d ? q + un : q + 1);
+      if (a == b) continue;
+      if (rank[a] < rank[b]) std::swap(a, b);
+      parent[b] = a;
+      if (rank[a] == rank[b]) ++rank[a];
+      g.open_[q >> 5] |= std::uint64_t{1} << ((q & 31) * 2 + d);
+      if (++joined + 1 == count) break;  // the tree is complete: every other wall stays
+    }
+  }
+
+  if (keep_probability < 1.0) {  // each remaining wall is kept with probability p
+    Stream keep(seed, "navigation/wall-keep");
+    for (std::uint32_t q = 0; q < count; ++q)
+      for (std::uint32_t d = 0; d < 2; ++d) {
+        const bool exists = d == 0 ? q % un + 1 < un : q / un + 1 < un;
+        if (!exists || g.bit(q, static_cast<int>(d))) continue;
+        if (!(keep.uniform01() < keep_probability)) g.open_[q >> 5] |= std::uint64_t{1} << ((q & 31) * 2 + d);
+      }
+  }
+
+  Stream props(seed, "navigation/properties");
+  for (auto& p : g.properties_) {
+    p.start = static_cast<std::uint32_t>(props.below(count));
+    p.unsafe = static_cast<std::uint32_t>(props.below(count - 1));
+    if (p.unsafe >= p.start) ++p.unsafe;
+  }
+  return g;
+}
+
+NavigationInstance navigation_kruskal_tree(int n, std::uint64_t seed, double terrain_size) {
+  return NavigationInstance::generate(n, seed, terrain_size, 1.0);
+}
+
+Mode NavigationInstance::terrain_at(double x, double y) const {
+  auto cell = [this](double v) {
+    double c = std::floor(v / size_);
+    if (!(c >= 0.0)) c = 0.0;  // also NaN
+    if (c > n_ - 1) c = n_ - 1;
+    return static_cast<Mode>(c);
+  };
+  return cell(y) * static_cast<Mode>(n_) + cell(x);
+}
+
+std::size_t NavigationInstance::passages() const {
+  std::size_t k = 0;
+  for (const std::uint64_t w : open_) k += static_cast<std::size_t>(std::popcount(w));
+  return k;
+}
+
+bool NavigationInstance::connected() const {
+  const std::size_t count = terrains();
+  std::vector<std::uint64_t> seen((count + 63) / 64, 0);
+  std::vector<std::uint32_t> queue;
+  queue.reserve(count);
+  queue.push_back(0);
+  seen[0] = 1;
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const Mode q = queue[head];
+    for (int k = 0; k < 4; ++k) {
+      if (!open(q, side_of(k))) continue;
+      const Mode r = neighbour(q, side_of(k));
+      if (seen[r >> 6] >> (r & 63) & 1u) continue;
+      seen[r >> 6] |= std::uint64_t{1} << (r & 63);
+      queue.push_back(static_cast<std::uint32_t>(r));
+    }
+  }
+  return queue.size() == count;
+}
+
+std::size_t NavigationInstance::memory_bytes() const {
+  return (vehicles_.capacity() + open_.capacity()) * sizeof(std::uint64_t);
+}
+
+// --- drivers -------------------------------------------------------------------------------------
+
+namespace {
+
+struct Interval {
+  double lo, hi;
+};
+
+// f(a, i, c, L, R) of seed 002 Sect. 4.1.2 with m = max_i; the bands are written with literal
+// edges so that they partition [-1, 1] exactly in floating point.
+Interval driver_f(NavDriver d, double a, double m, double c, double L, double R) {
+  const Interval any{-m, m};
+  switch (d) {
+    case NavDriver::random:
+      return any;
+    case NavDriver::student:
+      if (a > 0.2 && a <= 1.0) return {-L * m + 0.0, R * (c - 1.0) * m + 0.0};
+      if (a >= -1.0 && a < -0.2) return {R * (1.0 - c) * m + 0.0, L * m + 0.0};
+      return any;
+    case NavDriver::highway: {
+      static constexpr double kEdge[5] = {0.2, 0.4, 0.6, 0.8, 1.0};  // b = kEdge[j + 1]
+      for (int j = 0; j < 4; ++j)
+        if (a > kEdge[j] && a <= kEdge[j + 1]) {
+          const double b = kEdge[j + 1];
+          return {-L * b * m + 0.0, R * (c - b) * m + 0.0};
+        }
+      for (int j = 0; j < 4; ++j)
+        if (a >= -kEdge[j + 1] && a < -kEdge[j]) {
+          const double b = kEdge[j + 1];
+          return {R * (b - c) * m + 0.0, L * b * m + 0.0};
+        }
+      return any;
+    }
+  }
+  return any;
+}
+
+}  // namespace
+
+DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, std::span<const double> x) {
+  const NavVehicleLimits lim = navigation_limits(vehicle);
+  Interval u0{}, u1{};
+  switch (vehicle) {
+    case NavVehicle::scar:
+      u0 = driver_f(driver, x[3] / lim.a_max, lim.u0_max, 0.2, 1.0, 1.0);
+      u1 = driver_f(NavDriver::random, 0.0, lim.u1_max, 0.0, 0.0, 0.0);
+      break;
+    case NavVehicle::suni:
+      u0 = driver_f(driver, x[3] / lim.a_max, lim.u0_max, 0.2, 1.0, 1.0);
+      u1 = driver_f(driver, x[4] / lim.b_max, lim.u1_max, 0.2, 1.0, 1.0);
+      break;
+    case NavVehicle::sddrive: {
+      const double a = (x[3] + x[4]) / (2.0 * lim.a_max);
+      u0 = driver_f(driver, a, lim.u0_max, 1.2, 0.0, 0.25);
+      const Interval f1 = driver_f(driver, a, lim.u1_max, 1.2, 0.0, 0.25);
+      u1 = {-f1.hi + 0.0, -f1.lo + 0.0};  // u1 = -f(...)
+      break;
+    }
+  }
+  return {{u0.lo, u1.lo}, {u0.hi, u1.hi}};
+}
+
+// --- the model ---------------------------------------------------------------------------------
+
+namespace {
+
+class Navigation {
+ public:
+  static constexpr bool input_affine = true;  // a' = u0, b' = u1
+
+  Navigation(std::shared_ptr<const NavigationInstance> maze, NavigationProperty property, int levels)
+      : maze_(std::move(maze)), property_(property) {
+    for (int v = 0; v < 3; ++v) {
+      const NavVehicleLimits& l = kLimits[v];
+      inputs_[v] = InputSet::grid({{-l.u0_max, -l.u1_max}, {l.u0_max, l.u1_max}}, levels);
+    }
+    const auto lo = maze_->corner(property.unsafe);
+    unsafe_ = {lo[0], lo[1], lo[0] + maze_->terrain_size(), lo[1] + maze_->terrain_size()};
+  }
+
+  int dim() const { return 5; }
+  void flow(Mode q, const double* x, const double* u, const double*, double* dx) const {
+    const double c = std::cos(x[2]), s = std::sin(x[2]);
+    switch (maze_->vehicle(q)) {
+      case NavVehicle::scar:
+        dx[0] = x[3] * c;
+        dx[1] = x[3] * s;
+        dx[2] = x[3] * std::tan(x[4]) / kCarL;
+        break;
+      case NavVehicle::suni:
+        dx[0] = x[3] * c;
+        dx[1] = x[3] * s;
+        dx[2] = x[4];
+        break;
+      case NavVehicle::sddrive: {
+        const double v = 0.5 * kWheelR * (x[3] + x[4]);
+        dx[0] = v * c;
+        dx[1] = v * s;
+        dx[2] = kWheelR * (x[4] - x[3]) / kAxleL;
+        break;
+      }
+    }
+    dx[3] = u[0];
+    dx[4] = u[1];
+  }
+  int guard_count(Mode) const { return 4; }
+  double guard(Mode q, int k, const double* x, const double*) const {
+    return maze_->open(q, side_of(k)) ? beyond(q, k, x) - kHysteresis : -1.0;
+  }
+  Mode jump(Mode q, int k, double* x, const double*) const {
+    x[3] = 0.0;
+    x[4] = 0.0;
+    return maze_->neighbour(q, side_of(k));
+  }
+  bool invariant(Mode q, const double* x, const double*) const {
+    const NavVehicleLimits& l = kLimits[static_cast<int>(maze_->vehicle(q))];
+    if (!(std::abs(x[3]) <= l.a_max && std::abs(x[4]) <= l.b_max)) return false;
+    for (int k = 0; k < 4; ++k)
+      if (!(beyond(q, k, x) < 0.0) && !maze_->open(q, side_of(k))) return false;
+    return true;
+  }
+  double spec(Mode, const double* x, const double*) const {
+    const double dx = std::max({unsafe_[0] - x[0], 0.0, x[0] - unsafe_[2]});
+    const double dy = std::max({unsafe_[1] - x[1], 0.0, x[1] - unsafe_[3]});
+    if (dx > 0.0 || dy > 0.0) return std::hypot(dx, dy);
+    return -std::min({x[0] - unsafe_[0], unsafe_[2] - x[0], x[1] - unsafe_[1], unsafe_[3] - x[1]});
+  }
+  const InputSet& inputs(Mode q) const { return inputs_[static_cast<int>(maze_->vehicle(q))]; }
+  std::string mode_name(Mode q) const {
+    return fmt::format("{}(r{}c{} {})", q, maze_->row(q), maze_->col(q), navigation_vehicle_name(maze_->vehicle(q)));
+  }
+  const std::shared_ptr<const NavigationInstance>& maze() const { return maze_; }
+
+ private:
+  // Signed distance of (x, y) beyond side k of terrain q (> 0: across it).
+  double beyond(Mode q, int k, const double* x) const {
+    const double s = maze_->terrain_size();
+    const auto lo = maze_->corner(q);
+    switch (k) {
+      case 0: return x[0] - (lo[0] + s);
+      case 1: return x[1] - (lo[1] + s);
+      case 2: return lo[0] - x[0];
+      default: return lo[1] - x[1];
+    }
+  }
+
+  std::shared_ptr<const NavigationInstance> maze_;
+  NavigationProperty property_;
+  std::array<double, 4> unsafe_{};  // x_lo, y_lo, x_hi, y_hi
+  InputSet inputs_[3];
+};
+
+using NavigationSystem = ModelSystem<Navigation>;
+
+struct Parsed {
+  int n = 0;
+  std::uint64_t seed = 0;
+  NavDriver driver = NavDriver::random;
+  int property = 0;
+  double terrain_size = 1.0, step = 1.0, integration_step = 0.01;
+  int levels = 3;
+};
+
+Parsed parse(const Json& instance) {
+  Parsed p;
+  p.n = instance.at("n").get<int>();
+  p.seed = static_cast<std::uint64_t>(instance.at("seed").get<std::int64_t>());
+  p.driver = navigation_driver_from_name(instance.at("driver").get<std::string>());
+  p.property = instance.at("property").get<int>();
+  p.terrain_size = instance.at("terrain_size").get<double>();
+  p.step = instance.at("step").get<double>();
+  p.integration_step = instance.at("integration_step").get<double>();
+  p.levels = instance.at("input_levels").get<int>();
+  if (p.n < 2 || p.n > 4096) throw std::invalid_argument("navigation: n must be in [2, 4096]");
+  if (p.property < 0 || p.property >= NavigationInstance::kProperties)
+    throw std::invalid_argument("navigation: property must be in [0, 39]");
+  if (!(p.terrain_size > 0.0)) throw std::invalid_argument("navigation: terrain_size must be > 0");
+  if (!(p.step > 0.0)) throw std::invalid_argument("navigation: step must be > 0");
+  if (!(p.integration_step > 0.0 && p.integration_step <= p.step))
+    throw std::invalid_argument("navigation: integration_step must be in (0, step]");
+  if (p.levels < 2 || p.levels > 21) throw std::invalid_argument("navigation: input_levels must be in [2, 21]");
+  return p;
+}
+
+std::shared_ptr<const System> make_navigation(const Json& instance) {
+  const Parsed p = parse(instance);
+  auto maze = std::make_shared<const NavigationInstance>(NavigationInstance::generate(p.n, p.seed, p.terrain_size));
+  const NavigationProperty prop = maze->properties()[p.property];
+  const double s = p.terrain_size, extent = maze->extent();
+  const double phi_max = kLimits[0].b_max, v_max = kLimits[0].a_max;
+
+  SystemInfo info;
+  info.suite = "navigation";
+  info.instance = instance;
+  info.state_names = {"x", "y", "theta", "a", "b"};
+  info.input_names = {"u0", "u1"};
+  info.initial_mode = prop.start;
+  const auto c0 = maze->centre(prop.start);
+  info.initial_state = {c0[0], c0[1], 0.0, 0.0, 0.0};
+  info.sampling_box = {{0.0, 0.0, -std::numbers::pi, -v_max, -phi_max},
+                       {extent, extent, std::numbers::pi, v_max, phi_max}};
+  const double tenth = 0.1 * s;
+  info.metric_weights = {1.0, 1.0, tenth * tenth, (tenth / v_max) * (tenth / v_max),
+                         (tenth / phi_max) * (tenth / phi_max)};
+  const auto cu = maze->centre(prop.unsafe);
+  info.goal_point = {cu[0], cu[1], 0.0, 0.0, 0.0};
+  info.coverage = {{0, 1}, {{0.0, 0.0}, {extent, extent}}, extent / std::min(4 * p.n, 1024)};
+  info.step_duration = p.step;
+  info.integrator.kind = IntegratorKind::rk4;
+  info.integrator.step = p.integration_step;
+  info.integrator.max_step = p.integration_step;
+  info.witness_tolerance = 1e-6;
+  return std::make_shared<NavigationSystem>(Navigation(std::move(maze), prop, p.levels), std::move(info));
+}
+
+}  // namespace
+
+std::shared_ptr<const NavigationInstance> navigation_instance(const System& system) {
+  const auto* nav = dynamic_cast<const NavigationSystem*>(&system);
+  return nav ? nav->model().maze() : nullptr;
+}
+
+Json navigation_instance_json(const Json& instance) {
+  const Parsed p = parse(instance);
+  const NavigationInstance maze = NavigationInstance::generate(p.n, p.seed, p.terrain_size);
+  const Mode count = maze.terrains();
+  std::string dynamics(count, '?');
+  static constexpr char kCode[3] = {'C', 'U', 'D'};
+  Json passages = Json::array();
+  for (Mode q = 0; q < count; ++q) {
+    dynamics[q] = kCode[static_cast<int>(maze.vehicle(q))];
+    if (maze.open(q, NavSide::east)) passages.push_back({q, q + 1});
+    if (maze.open(q, NavSide::north)) passages.push_back({q, q + p.n});
+  }
+  Json properties = Json::array();
+  for (const auto& pr : maze.properties()) properties.push_back({pr.start, pr.unsafe});
+  Json constants = Json::object();
+  for (int v = 0; v < 3; ++v) {
+    const NavVehicleLimits& l = kLimits[v];
+    constants[std::string(navigation_vehicle_name(static_cast<NavVehicle>(v)))] = {
+        {"a_max", l.a_max}, {"b_max", l.b_max}, {"u0_max", l.u0_max}, {"u1_max", l.u1_max}};
+  }
+  constants["SCar"]["L"] = kCarL;
+  constants["SDDrive"]["r"] = kWheelR;
+  constants["SDDrive"]["L"] = kAxleL;
+  constants["wall_keep_probability"] = NavigationInstance::kKeepWall;
+  constants["transition_hysteresis"] = kHysteresis;
+  return {{"format", "hyfal-navigation/1"},
+          {"suite", "navigation"},
+          {"instance", instance},
+          {"n", p.n},
+          {"seed", instance.at("seed")},
+          {"terrain_size", p.terrain_size},
+          {"driver", std::string(navigation_driver_name(p.driver))},
+          {"property", p.property},
+          {"layout", "terrain q = row * n + col covers [col s, (col+1) s] x [row s, (row+1) s]; "
+                     "state (x, y, theta, a, b): SCar (a, b) = (v, phi), SUni (v, omega), "
+                     "SDDrive (omega_l, omega_r)"},
+          {"vehicles", {{"C", "SCar"}, {"U", "SUni"}, {"D", "SDDrive"}}},
+          {"dynamics", std::move(dynamics)},
+          {"passages", std::move(passages)},
+          {"properties", std::move(properties)},
+          {"constants", std::move(constants)}};
+}
+
+SuiteEntry navigation_suite() {
+  return {"navigation",
+          "seed 002 Sect. 4.1: n x n terrains (SCar/SUni/SDDrive), Kruskal maze walls; reach the unsafe terrain",
+          {{"n", 4, "terrains per side (|Q| = n^2 modes), 2..4096"},
+           {"seed", 1, "instance seed: dynamics per terrain, walls, the 40 properties"},
+           {"driver", "random", "driver model: random | student | highway (for planners that use it)"},
+           {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39"},
+           {"terrain_size", 1.0, "side of one terrain, m"},
+           {"step", 1.0, "duration T of one tree extension, s"},
+           {"integration_step", 0.01, "RK4 step ε, s"},
+           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"}},
+          make_navigation,
+          {}};
+}
+
+}  // namespace hyfal

@@ -1,0 +1,804 @@
+// End-to-end tests of the hyfal command line: the built binary (HYFAL_BIN) is run as a child
+// process in a fresh temporary directory per test, and its exit status, stdout, stderr, results
+// database (read with the sqlite3 command-line tool) and witness files are checked.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#ifndef HYFAL_BIN
+#error "HYFAL_BIN (the path of the built hyfal binary) must be defined"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using Args = std::vector<std::string>;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'')
+      q += "'\\''";
+    else
+      q += c;
+  }
+  return q + "'";
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> parts;
+  std::string cur;
+  for (char c : s) {
+    if (c == sep) {
+      parts.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  parts.push_back(cur);
+  return parts;
+}
+
+// Lines of a text, without the empty piece after a final newline.
+std::vector<std::string> lines(const std::string& s) {
+  auto v = split(s, '\n');
+  if (!v.empty() && v.back().empty()) v.pop_back();
+  return v;
+}
+
+int decode_status(int status) {
+  if (status == -1) return -1;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err, command;
+};
+
+std::ostream& operator<<(std::ostream& os, const Result& r) {
+  return os << "command: " << r.command << "\nexit: " << r.code << "\nstdout:\n"
+            << r.out << "\nstderr:\n"
+            << r.err;
+}
+
+// Runs hyfal with args in cwd; stdout and stderr go to files under io_dir (never under cwd, so
+// that cwd can be checked for files hyfal created). A memory cap and a wall-clock cap keep a
+// misbehaving binary from taking the machine down with it (exit 137 when the cap is hit).
+Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120) {
+  static std::atomic<int> counter{0};
+  fs::create_directories(io_dir);
+  const int n = counter++;
+  const fs::path out = io_dir / ("cmd" + std::to_string(n) + ".out");
+  const fs::path err = io_dir / ("cmd" + std::to_string(n) + ".err");
+  std::string cmd = "cd ";
+  cmd += quote(cwd.string());
+  cmd += " && ulimit -v 8388608 && exec timeout -s KILL ";
+  cmd += std::to_string(time_cap_s);
+  cmd += ' ';
+  cmd += quote(HYFAL_BIN);
+  for (const auto& a : args) {
+    cmd += ' ';
+    cmd += quote(a);
+  }
+  cmd += " >";
+  cmd += quote(out.string());
+  cmd += " 2>";
+  cmd += quote(err.string());
+  cmd += " </dev/null";
+  Result r;
+  r.code = decode_status(std::system(cmd.c_str()));
+  r.out = read_text(out);
+  r.err = read_text(err);
+  r.command = "hyfal";
+  for (const auto& a : args) r.command += " " + a;
+  return r;
+}
+
+// Runs the sqlite3 command-line tool on db; returns its rows (fields split at '|').
+// Sets ok to false (and leaves the output in error) when sqlite3 fails.
+struct SqlResult {
+  bool ok = false;
+  std::vector<std::vector<std::string>> rows;
+  std::string text;
+};
+
+SqlResult sql(const fs::path& db, const std::string& query) {
+  SqlResult r;
+  const std::string cmd =
+      "sqlite3 -batch -noheader -separator '|' " + quote(db.string()) + " " + quote(query) + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t got;
+  while ((got = fread(buf, 1, sizeof buf, p)) > 0) r.text.append(buf, got);
+  r.ok = decode_status(pclose(p)) == 0;
+  for (const auto& line : lines(r.text)) r.rows.push_back(split(line, '|'));
+  return r;
+}
+
+// Every path under root (relative), mapped to its content (files) or "<dir>"; contents of
+// *.sqlite files are not compared (opening a database may rewrite its header), only presence.
+std::map<std::string, std::string> snapshot(const fs::path& root) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::recursive_directory_iterator(root)) {
+    const std::string rel = fs::relative(e.path(), root).string();
+    if (e.is_directory())
+      m[rel] = "<dir>";
+    else if (e.path().extension() == ".sqlite")
+      m[rel] = "<sqlite>";
+    else
+      m[rel] = read_text(e.path());
+  }
+  return m;
+}
+
+std::vector<fs::path> files_with_suffix(const fs::path& root, const std::string& suffix) {
+  std::vector<fs::path> v;
+  if (!fs::exists(root)) return v;
+  for (const auto& e : fs::recursive_directory_iterator(root)) {
+    const std::string s = e.path().string();
+    if (e.is_regular_file() && s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0)
+      v.push_back(e.path());
+  }
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+// Minimal RFC-4180 CSV reader (quoted fields, doubled quotes).
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string field;
+  bool quoted = false, any = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    any = true;
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        field += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      row.push_back(field);
+      field.clear();
+    } else if (c == '\n') {
+      row.push_back(field);
+      field.clear();
+      rows.push_back(row);
+      row.clear();
+      any = false;
+    } else if (c != '\r') {
+      field += c;
+    }
+  }
+  if (any) {
+    row.push_back(field);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// CSV rows as maps column -> value.
+std::vector<std::map<std::string, std::string>> csv_records(const std::string& text) {
+  const auto rows = parse_csv(text);
+  std::vector<std::map<std::string, std::string>> recs;
+  if (rows.empty()) return recs;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    std::map<std::string, std::string> rec;
+    for (std::size_t k = 0; k < rows[0].size() && k < rows[i].size(); ++k) rec[rows[0][k]] = rows[i][k];
+    recs.push_back(rec);
+  }
+  return recs;
+}
+
+// The Markdown summary row of the thermostat group, or "" if none.
+std::string thermostat_row(const std::string& md) {
+  for (const auto& l : lines(md))
+    if (l.rfind("| thermostat |", 0) == 0) return l;
+  return "";
+}
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+// A real witness: one falsifying trial run in dir; returns the witness' path (empty on failure).
+fs::path make_witness_at(const fs::path& dir, const fs::path& io_dir) {
+  fs::create_directories(dir);
+  const Result r = run_hyfal(dir, io_dir, {"run", "--suite", "thermostat", "--trials", "1", "--threads", "1",
+                                           "--db", "db.sqlite", "--witness-dir", "wit", "--quiet"});
+  EXPECT_EQ(r.code, 0) << r;
+  const auto files = files_with_suffix(dir / "wit", ".json");
+  EXPECT_EQ(files.size(), 1u) << r;
+  return files.empty() ? fs::path() : files.front();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fixture: a fresh directory per test; root/work is where hyfal runs, root/io holds captured output.
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    root_ = fs::temp_directory_path() / ("hyfal_cli_" + name + "_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(work());
+    fs::create_directories(io());
+  }
+  void TearDown() override {
+    if (HasFailure())
+      std::cerr << "[test_cli] kept " << root_ << " for inspection\n";
+    else
+      fs::remove_all(root_);
+  }
+
+  fs::path work() const { return root_ / "work"; }
+  fs::path io() const { return root_ / "io"; }
+  fs::path scratch() const { return root_ / "scratch"; }
+
+  Result hyfal(const Args& args, int time_cap_s = 120) { return run_hyfal(work(), io(), args, time_cap_s); }
+
+  fs::path make_witness() { return make_witness_at(scratch() / ("w" + std::to_string(witness_counter_++)), io()); }
+
+  fs::path root_;
+  int witness_counter_ = 0;
+};
+
+// Per-trial columns that do not depend on time.
+const char* kTrialColumns = "trial_index, seed, status, nodes, propagations, integration_steps";
+
+// ---------------------------------------------------------------------------------------------
+// 1. Bad inputs: exit 2, exactly one line on stderr, nothing on stdout, nothing created.
+
+struct BadCase {
+  std::string name;
+  Args args;
+  // Creates the files the case needs in work (scratch space: work/../scratch).
+  std::function<void(const fs::path& work)> setup;
+};
+
+std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.name; }
+
+Args run_args(Args extra) {
+  Args a = {"run", "--suite", "thermostat", "--trials", "2", "--threads", "1"};
+  a.insert(a.end(), extra.begin(), extra.end());
+  return a;
+}
+// run with the database and witnesses under out/ (which must not appear).
+Args run_out(Args extra) {
+  Args a = {"run", "--db", "out/db.sqlite", "--witness-dir", "out/wit"};
+  a.insert(a.end(), extra.begin(), extra.end());
+  return a;
+}
+
+void plain_file(const fs::path& work) { write_text(work / "plain", "a regular file\n"); }
+
+// Writes a real witness (made in a scratch directory beside work) into work/name after
+// applying edit to its JSON.
+std::function<void(const fs::path&)> edited_witness(const std::string& name, std::function<void(Json&)> edit) {
+  return [name, edit](const fs::path& work) {
+    const fs::path w = make_witness_at(work.parent_path() / "scratch", work.parent_path() / "io");
+    ASSERT_FALSE(w.empty());
+    Json j = Json::parse(read_text(w));
+    edit(j);
+    write_text(work / name, j.dump(1));
+  };
+}
+
+class BadInputTest : public CliTest, public ::testing::WithParamInterface<BadCase> {};
+
+TEST_P(BadInputTest, ExitsTwoWithOneLineAndCreatesNothing) {
+  const BadCase& c = GetParam();
+  if (c.setup) c.setup(work());
+  ASSERT_FALSE(HasFailure()) << "setup failed";
+  const auto before = snapshot(work());
+
+  const Result r = hyfal(c.args, 60);
+
+  // All checks are gathered so that a failing case reports its command and output once.
+  std::vector<std::string> problems;
+  if (r.code != 2) problems.push_back("exit code " + std::to_string(r.code) + ", expected 2");
+  if (lines(r.err).size() != 1 || r.err.back() != '\n')
+    problems.push_back("stderr has " + std::to_string(lines(r.err).size()) + " lines, expected exactly 1");
+  if (r.err.rfind("hyfal: error: ", 0) != 0) problems.push_back("stderr does not start with 'hyfal: error: '");
+  if (!r.out.empty()) problems.push_back("stdout is not empty");
+  const auto after = snapshot(work());
+  for (const auto& [path, content] : after) {
+    const auto it = before.find(path);
+    if (it == before.end())
+      problems.push_back("created '" + path + "'");
+    else if (it->second != content)
+      problems.push_back("modified '" + path + "'");
+  }
+  for (const auto& [path, content] : before)
+    if (!after.count(path)) problems.push_back("removed '" + path + "'");
+  std::string report;
+  for (const auto& p : problems) report += "  - " + p + "\n";
+  EXPECT_TRUE(problems.empty()) << "a bad input must exit 2 with one line on stderr and leave its directory as "
+                                   "it was:\n"
+                                << report << r;
+}
+
+std::vector<BadCase> bad_cases() {
+  std::vector<BadCase> v;
+  auto add = [&](std::string name, Args args, std::function<void(const fs::path&)> setup = {}) {
+    v.push_back({std::move(name), std::move(args), std::move(setup)});
+  };
+  // run: names
+  add("UnknownSuite", run_out({"--suite", "nosuch"}));
+  add("UnknownMethod", run_out({"--suite", "thermostat", "--method", "nosuch"}));
+  add("MissingSuite", run_out({}));
+  add("UnknownOption", run_out({"--suite", "thermostat", "--bogus", "1"}));
+  // run: numbers
+  add("TrialsNotANumber", run_out({"--suite", "thermostat", "--trials", "abc"}));
+  add("TrialsNegative", run_out({"--suite", "thermostat", "--trials", "-3"}));
+  add("TrialsZero", run_out({"--suite", "thermostat", "--trials", "0"}));
+  add("TrialsFractional", run_out({"--suite", "thermostat", "--trials", "1.5"}));
+  add("TrialsOverflow", run_out({"--suite", "thermostat", "--trials", "99999999999"}));
+  add("ThreadsNegative", run_out({"--suite", "thermostat", "--threads", "-1"}));
+  add("TimeoutZero", run_out({"--suite", "thermostat", "--timeout", "0"}));
+  add("TimeoutNaN", run_out({"--suite", "thermostat", "--trials", "1", "--timeout", "nan"}));
+  add("MaxNodesZero", run_out({"--suite", "thermostat", "--max-nodes", "0"}));
+  add("SeedNegative", run_out({"--suite", "thermostat", "--trials", "1", "--seed", "-1"}));
+  add("FormatUnknown", run_out({"--suite", "thermostat", "--format", "xml"}));
+  // run: --set
+  add("SetUnknownKey", run_out({"--suite", "thermostat", "--set", "bogus=1"}));
+  add("SetTypeErrorNumber", run_out({"--suite", "thermostat", "--set", "step=abc"}));
+  add("SetTypeErrorInteger", run_out({"--suite", "thermostat", "--set", "input_levels=2.5"}));
+  add("SetEmptyValue", run_out({"--suite", "thermostat", "--set", "step="}));
+  add("SetNonFinite", run_out({"--suite", "thermostat", "--set", "sample_window=inf"}));
+  add("SetRejectedStepNegative", run_out({"--suite", "thermostat", "--set", "step=-1"}));
+  add("SetRejectedInputLevels", run_out({"--suite", "thermostat", "--set", "input_levels=1"}));
+  add("SetNoEquals", run_out({"--suite", "thermostat", "--set", "novalue"}));
+  add("SetEmptyKey", run_out({"--suite", "thermostat", "--set", "=5"}));
+  add("SetNumberOverflow", run_out({"--suite", "thermostat", "--trials", "1", "--set", "step=1e400"}));
+  add("SetIntegerOverflow",
+      run_out({"--suite", "thermostat", "--trials", "1", "--set", "input_levels=100000000000"}));
+  // run: paths
+  add("DbUnderProc", run_args({"--db", "/proc/forbidden/x.sqlite", "--witness-dir", "out/wit"}));
+  add("DbParentIsRegularFile", run_args({"--db", "plain/x.sqlite", "--witness-dir", "out/wit"}), plain_file);
+  add("DbIsDirectory", run_args({"--db", "dbdir", "--witness-dir", "out/wit"}),
+      [](const fs::path& w) { fs::create_directories(w / "dbdir"); });
+  add("DbIsNotSqlite", run_args({"--db", "notdb.txt", "--witness-dir", "out/wit"}),
+      [](const fs::path& w) { write_text(w / "notdb.txt", "not a database, and must stay so\n"); });
+  add("WitnessDirParentIsRegularFile", run_args({"--db", "out/db.sqlite", "--witness-dir", "plain/wit"}),
+      plain_file);
+  // table
+  add("TableMissingDb", {"table", "--db", "missing.sqlite"});
+  add("TableDbIsNotSqlite", {"table", "--db", "notdb.txt"},
+      [](const fs::path& w) { write_text(w / "notdb.txt", "not a database\n"); });
+  add("TableUnknownFormat", {"table", "--db", "missing.sqlite", "--format", "xml"});
+  add("TableOutputParentIsRegularFile", {"table", "--db", "good.sqlite", "-o", "plain/table.md"},
+      [](const fs::path& w) {
+        plain_file(w);
+        const fs::path dir = w.parent_path() / "scratch";
+        fs::create_directories(dir);
+        const Result r = run_hyfal(dir, w.parent_path() / "io",
+                                   {"run", "--suite", "thermostat", "--trials", "1", "--threads", "1", "--db",
+                                    "db.sqlite", "--witness-dir", "wit", "--quiet"});
+        ASSERT_EQ(r.code, 0) << r;
+        fs::copy_file(dir / "db.sqlite", w / "good.sqlite");
+      });
+  // validate
+  add("ValidateMissingFile", {"validate", "missing.json"});
+  add("ValidateDirectory", {"validate", "adir"},
+      [](const fs::path& w) { fs::create_directories(w / "adir"); });
+  add("ValidateNotJson", {"validate", "garbage.json"},
+      [](const fs::path& w) { write_text(w / "garbage.json", "this is { not JSON\n"); });
+  add("ValidateEmptyObject", {"validate", "empty.json"},
+      [](const fs::path& w) { write_text(w / "empty.json", "{}\n"); });
+  add("ValidateMissingPieces", {"validate", "w.json"}, edited_witness("w.json", [](Json& j) { j.erase("pieces"); }));
+  add("ValidateMissingFinalSpec", {"validate", "w.json"},
+      edited_witness("w.json", [](Json& j) { j["final"].erase("spec"); }));
+  add("ValidatePieceWithShortState", {"validate", "w.json"},
+      edited_witness("w.json", [](Json& j) { j["pieces"][0]["x_end"] = Json::array({1.0}); }));
+  add("ValidateUnknownSuite", {"validate", "w.json"},
+      edited_witness("w.json", [](Json& j) { j["suite"] = "nosuch"; }));
+  add("ValidateUnknownInstanceKey", {"validate", "w.json"},
+      edited_witness("w.json", [](Json& j) { j["instance"]["bogus"] = 1; }));
+  add("ValidateMissingArgument", {"validate"});
+  // top level
+  add("UnknownSubcommand", {"frobnicate"});
+  add("NoSubcommand", {});
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, BadInputTest, ::testing::ValuesIn(bad_cases()),
+                         [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// ---------------------------------------------------------------------------------------------
+// 2. A run falsifies, stores validated trials and writes witnesses that validate on their own.
+
+TEST_F(CliTest, RunTenTrialsStoresValidatedWitnesses) {
+  const fs::path db = work() / "db.sqlite", wit = work() / "wit";
+  const Result r = hyfal({"run", "--suite", "thermostat", "--trials", "10", "--threads", "2", "--db", db.string(),
+                          "--witness-dir", wit.string()});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "| n | falsified |")) << r;
+  const std::string row = thermostat_row(r.out);
+  EXPECT_TRUE(contains(row, "| rrt | 10 | 10 |")) << r;
+  EXPECT_TRUE(contains(r.out, "10 trials (10 run now), 10 witnesses validated")) << r;
+  EXPECT_FALSE(contains(r.err, "error")) << r;
+
+  const auto q = sql(db, std::string("SELECT trial_index, status, validated, threads, witness, error IS NULL "
+                                     "FROM trials ORDER BY trial_index"));
+  ASSERT_TRUE(q.ok) << q.text;
+  ASSERT_EQ(q.rows.size(), 10u) << q.text;
+  std::set<std::string> witnesses;
+  for (std::size_t i = 0; i < q.rows.size(); ++i) {
+    const auto& f = q.rows[i];
+    ASSERT_EQ(f.size(), 6u) << q.text;
+    SCOPED_TRACE("trial " + f[0]);
+    EXPECT_EQ(f[0], std::to_string(i));
+    EXPECT_EQ(f[1], "falsified");
+    EXPECT_EQ(f[2], "1");
+    EXPECT_EQ(f[3], "2");
+    EXPECT_EQ(f[5], "1") << "a falsified trial has no error";
+    const fs::path w = f[4];
+    witnesses.insert(f[4]);
+    ASSERT_TRUE(fs::is_regular_file(w)) << w;
+    EXPECT_TRUE(fs::path(f[4]).string().rfind(wit.string(), 0) == 0) << "witness outside --witness-dir: " << w;
+    const Result v = hyfal({"validate", w.string()});
+    EXPECT_EQ(v.code, 0) << v;
+    EXPECT_EQ(v.out.rfind("VALID", 0), 0u) << v;
+    EXPECT_EQ(v.err, "") << v;
+    const Json j = Json::parse(read_text(w));
+    EXPECT_EQ(j.at("format"), "hyfal-witness/1");
+    EXPECT_EQ(j.at("suite"), "thermostat");
+    EXPECT_LE(j.at("final").at("spec").get<double>(), 1e-7);
+  }
+  EXPECT_EQ(witnesses.size(), 10u) << "each trial has its own witness file";
+  EXPECT_EQ(files_with_suffix(wit, ".json").size(), 10u);
+  EXPECT_TRUE(files_with_suffix(wit, ".tmp").empty()) << "no temporary witness files left behind";
+
+  // The stored database summarizes to the same row.
+  const Result t = hyfal({"table", "--db", db.string()});
+  ASSERT_EQ(t.code, 0) << t;
+  EXPECT_TRUE(contains(thermostat_row(t.out), "| rrt | 10 | 10 |")) << t;
+  // ... and -o writes it to a file instead of stdout.
+  const Result o = hyfal({"table", "--db", db.string(), "--format", "csv", "-o", "tables/out.csv"});
+  ASSERT_EQ(o.code, 0) << o;
+  EXPECT_EQ(o.out, "") << o;
+  const auto recs = csv_records(read_text(work() / "tables" / "out.csv"));
+  ASSERT_EQ(recs.size(), 1u);
+  EXPECT_EQ(recs[0].at("n"), "10");
+  EXPECT_EQ(recs[0].at("falsified"), "10");
+  EXPECT_FALSE(fs::exists(work() / "tables" / "out.csv.tmp"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Corrupted witnesses are rejected (exit 1, INVALID); the untouched one is accepted.
+
+struct Corruption {
+  const char* name;
+  std::function<void(Json&)> edit;
+};
+
+TEST_F(CliTest, ValidateRejectsCorruptedWitnesses) {
+  const fs::path original = make_witness();
+  ASSERT_FALSE(original.empty());
+  const Json good = Json::parse(read_text(original));
+  ASSERT_GE(good.at("pieces").size(), 3u);
+
+  {
+    write_text(work() / "copy.json", good.dump(1));
+    const Result r = hyfal({"validate", "copy.json"});
+    ASSERT_EQ(r.code, 0) << "control: the untouched witness validates\n" << r;
+    ASSERT_EQ(r.out.rfind("VALID", 0), 0u) << r;
+  }
+
+  const std::vector<Corruption> corruptions = {
+      {"x_end of a middle piece moved",
+       [](Json& j) {
+         auto& p = j["pieces"][j["pieces"].size() / 2];
+         p["x_end"][0] = p["x_end"][0].get<double>() + 0.01;
+       }},
+      {"input outside U",
+       [](Json& j) { j["pieces"][0]["u"][0] = 10.0; }},
+      {"final state moved",
+       [](Json& j) { j["final"]["x"][2] = j["final"]["x"][2].get<double>() + 0.5; }},
+      {"final mode flipped",
+       [](Json& j) { j["final"]["mode"] = 1 - j["final"]["mode"].get<int>(); }},
+      {"piece duration stretched",
+       [](Json& j) { j["pieces"][0]["duration"] = j["pieces"][0]["duration"].get<double>() * 1.5; }},
+      {"initial state moved", [](Json& j) { j["initial"]["x"][0] = 2.5; }},
+      {"last piece dropped (final state no longer unsafe)",
+       [](Json& j) {
+         auto& pieces = j["pieces"];
+         pieces.erase(pieces.size() - 1);
+         j["final"]["x"] = pieces.back()["x_end"];
+         j["final"]["mode"] = pieces.back()["mode"];
+       }},
+  };
+  for (const auto& c : corruptions) {
+    SCOPED_TRACE(c.name);
+    Json bad = good;
+    c.edit(bad);
+    ASSERT_NE(bad, good);
+    write_text(work() / "bad.json", bad.dump(1));
+    const Result r = hyfal({"validate", "bad.json"});
+    EXPECT_EQ(r.code, 1) << r;
+    EXPECT_EQ(r.out.rfind("INVALID", 0), 0u) << r;
+    EXPECT_EQ(lines(r.out).size(), 1u) << r;
+    EXPECT_EQ(r.err, "") << r;
+  }
+}
+
+// The recorded final spec is part of the witness' claim; a witness whose recorded s says "safe"
+// (s = 5 > 0) while the re-simulation ends at s ~ 0 is inconsistent and must not be VALID.
+TEST_F(CliTest, ValidateRejectsWitnessWithWrongRecordedFinalSpec) {
+  const fs::path original = make_witness();
+  ASSERT_FALSE(original.empty());
+  Json j = Json::parse(read_text(original));
+  j["final"]["spec"] = 5.0;
+  write_text(work() / "bad.json", j.dump(1));
+  const Result r = hyfal({"validate", "bad.json"});
+  EXPECT_EQ(r.code, 1) << r;
+  EXPECT_EQ(r.out.rfind("INVALID", 0), 0u) << r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Results do not depend on the thread count.
+
+TEST_F(CliTest, ThreadCountDoesNotChangeResults) {
+  const Args common = {"run", "--suite", "thermostat", "--trials", "20", "--seed", "7", "--quiet"};
+  auto with = [&](Args extra) {
+    Args a = common;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  const Result a = hyfal(with({"--threads", "1", "--db", "a.sqlite", "--witness-dir", "wa"}));
+  ASSERT_EQ(a.code, 0) << a;
+  const Result b = hyfal(with({"--threads", "2", "--db", "b.sqlite", "--witness-dir", "wb"}));
+  ASSERT_EQ(b.code, 0) << b;
+
+  const std::string q = std::string("SELECT ") + kTrialColumns + " FROM trials ORDER BY trial_index";
+  const auto ra = sql(work() / "a.sqlite", q), rb = sql(work() / "b.sqlite", q);
+  ASSERT_TRUE(ra.ok) << ra.text;
+  ASSERT_TRUE(rb.ok) << rb.text;
+  ASSERT_EQ(ra.rows.size(), 20u) << ra.text;
+  EXPECT_EQ(ra.rows, rb.rows) << "threads 1:\n" << ra.text << "threads 2:\n" << rb.text;
+  std::set<std::string> seeds;
+  for (const auto& row : ra.rows) seeds.insert(row.at(1));
+  EXPECT_EQ(seeds.size(), 20u) << "every trial has its own seed";
+
+  // The thread count really differed.
+  EXPECT_EQ(sql(work() / "a.sqlite", "SELECT DISTINCT threads FROM trials").text, "1\n");
+  EXPECT_EQ(sql(work() / "b.sqlite", "SELECT DISTINCT threads FROM trials").text, "2\n");
+
+  // Witnesses are byte-identical (their paths differ only by the witness directory).
+  const auto wa = files_with_suffix(work() / "wa", ".json"), wb = files_with_suffix(work() / "wb", ".json");
+  ASSERT_EQ(wa.size(), wb.size());
+  for (std::size_t i = 0; i < wa.size(); ++i) {
+    EXPECT_EQ(fs::relative(wa[i], work() / "wa"), fs::relative(wb[i], work() / "wb"));
+    EXPECT_EQ(read_text(wa[i]), read_text(wb[i])) << wa[i] << " vs " << wb[i];
+  }
+
+  // Time-independent summary columns of the CSV tables agree.
+  const Result ta = hyfal({"table", "--db", "a.sqlite", "--format", "csv"});
+  const Result tb = hyfal({"table", "--db", "b.sqlite", "--format", "csv"});
+  ASSERT_EQ(ta.code, 0) << ta;
+  ASSERT_EQ(tb.code, 0) << tb;
+  const auto ca = csv_records(ta.out), cb = csv_records(tb.out);
+  ASSERT_EQ(ca.size(), 1u) << ta.out;
+  ASSERT_EQ(cb.size(), 1u) << tb.out;
+  for (const char* col : {"suite", "instance", "method", "config", "n", "falsified", "validated", "nodes_median",
+                          "nodes_mean", "nodes_std"}) {
+    SCOPED_TRACE(col);
+    ASSERT_TRUE(ca[0].count(col)) << ta.out;
+    ASSERT_TRUE(cb[0].count(col)) << tb.out;
+    EXPECT_EQ(ca[0].at(col), cb[0].at(col));
+  }
+  EXPECT_EQ(ca[0].at("n"), "20");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Resume: a rerun skips stored trials and ends with the rows of an uninterrupted run.
+
+TEST_F(CliTest, ResumeRunsOnlyMissingTrialsAndMatchesUninterruptedRun) {
+  auto run_n = [&](const std::string& sub, int n) {
+    return hyfal({"run", "--suite", "thermostat", "--trials", std::to_string(n), "--threads", "2", "--db",
+                  sub + "/db.sqlite", "--witness-dir", sub + "/wit"});
+  };
+  const Result full = run_n("full", 10);
+  ASSERT_EQ(full.code, 0) << full;
+  EXPECT_FALSE(contains(full.err, "resuming")) << full;
+
+  const Result first = run_n("part", 4);
+  ASSERT_EQ(first.code, 0) << first;
+  EXPECT_FALSE(contains(first.err, "resuming")) << first;
+  const Result second = run_n("part", 10);
+  ASSERT_EQ(second.code, 0) << second;
+  EXPECT_TRUE(contains(second.err, "resuming: 4 of 10 trials already stored")) << second;
+  EXPECT_TRUE(contains(second.out, "10 trials (6 run now)")) << second;
+  EXPECT_TRUE(contains(thermostat_row(second.out), "| rrt | 10 | 10 |")) << second;
+
+  const std::string q = std::string("SELECT ") + kTrialColumns + " FROM trials ORDER BY trial_index";
+  const auto rf = sql(work() / "full/db.sqlite", q), rp = sql(work() / "part/db.sqlite", q);
+  ASSERT_TRUE(rf.ok) << rf.text;
+  ASSERT_TRUE(rp.ok) << rp.text;
+  ASSERT_EQ(rf.rows.size(), 10u) << rf.text;
+  EXPECT_EQ(rp.rows, rf.rows) << "uninterrupted:\n" << rf.text << "resumed:\n" << rp.text;
+  // Trials 0..3 were stored by the first run, trials 4..9 by the second: 6 new rows only.
+  EXPECT_EQ(sql(work() / "part/db.sqlite", "SELECT count(*) FROM trials").text, "10\n");
+
+  // A third identical run does nothing and stores nothing more.
+  const Result third = run_n("part", 10);
+  ASSERT_EQ(third.code, 0) << third;
+  EXPECT_TRUE(contains(third.err, "resuming: 10 of 10 trials already stored")) << third;
+  EXPECT_TRUE(contains(third.out, "10 trials (0 run now)")) << third;
+  EXPECT_EQ(sql(work() / "part/db.sqlite", "SELECT count(*), count(DISTINCT trial_index) FROM trials").text,
+            "10|10\n");
+
+  // A smaller --trials summarizes only its indices.
+  const Result fewer = run_n("part", 5);
+  ASSERT_EQ(fewer.code, 0) << fewer;
+  EXPECT_TRUE(contains(thermostat_row(fewer.out), "| rrt | 5 | 5 |")) << fewer;
+
+  // --quiet suppresses the resuming line (and prints only the table).
+  const Result quiet = hyfal({"run", "--suite", "thermostat", "--trials", "10", "--threads", "2", "--db",
+                              "part/db.sqlite", "--witness-dir", "part/wit", "--quiet"});
+  ASSERT_EQ(quiet.code, 0) << quiet;
+  EXPECT_EQ(quiet.err, "") << quiet;
+  EXPECT_FALSE(contains(quiet.out, "run now")) << quiet;
+}
+
+// A run killed with SIGKILL mid-way leaves a database that opens and a rerun completes it.
+TEST_F(CliTest, KillNineLeavesResumableDatabase) {
+  // The default instance (10-500 ms per trial): 200 trials on 2 threads take seconds, so the
+  // kill lands mid-run. (sample_window=60 makes single trials take up to a minute, far too slow
+  // to complete the rerun within this test's time budget.)
+  const Args args = {HYFAL_BIN, "run", "--suite", "thermostat", "--trials", "200", "--threads", "2",
+                     "--db", "db.sqlite", "--witness-dir", "wit"};
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const std::string out = (io() / "killed.out").string(), err = (io() / "killed.err").string();
+  const std::string cwd = work().string();
+
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (chdir(cwd.c_str()) != 0) _exit(126);
+    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (o < 0 || e < 0) _exit(126);
+    dup2(o, 1);
+    dup2(e, 2);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  // Wait ~0.3 s, and at least until some trials have finished (each trial writes its witness
+  // just before its row; with 2 threads, >= 5 witnesses means >= 3 rows are being or were stored).
+  const auto t0 = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  int status = 0;
+  bool exited_early = false;
+  while (files_with_suffix(work() / "wit", ".json").size() < 5 &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20)) {
+    if (waitpid(pid, &status, WNOHANG) == pid) {
+      exited_early = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (!exited_early) {
+    kill(pid, SIGKILL);
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  }
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+      << "the run must still be going when killed; exit status " << decode_status(status) << "\nstderr:\n"
+      << read_text(err);
+
+  const fs::path db = work() / "db.sqlite";
+  ASSERT_TRUE(fs::exists(db));
+  const auto integrity = sql(db, "PRAGMA integrity_check");
+  ASSERT_TRUE(integrity.ok) << integrity.text;
+  EXPECT_EQ(integrity.text, "ok\n");
+
+  const Result t = hyfal({"table", "--db", "db.sqlite"});
+  ASSERT_EQ(t.code, 0) << t;
+  EXPECT_TRUE(contains(t.out, "| thermostat |")) << t;
+
+  const auto count = sql(db, "SELECT count(*), count(DISTINCT trial_index) FROM trials");
+  ASSERT_TRUE(count.ok) << count.text;
+  ASSERT_EQ(count.rows.size(), 1u);
+  const int stored = std::stoi(count.rows[0].at(0));
+  EXPECT_EQ(count.rows[0].at(1), count.rows[0].at(0)) << "no duplicate trial_index";
+  EXPECT_GE(stored, 1) << "the kill came after some trials were stored";
+  EXPECT_LT(stored, 200) << "the kill came before the run finished";
+
+  // Rerun the same command: it resumes and completes.
+  Args rerun(args.begin() + 1, args.end());
+  const Result r = hyfal(rerun);
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.err, "resuming: " + std::to_string(stored) + " of 200 trials already stored")) << r;
+  EXPECT_TRUE(contains(r.out, "200 trials (" + std::to_string(200 - stored) + " run now)")) << r;
+  EXPECT_TRUE(contains(thermostat_row(r.out), "| rrt | 200 | 200 |")) << r;
+
+  const auto final_count =
+      sql(db, "SELECT count(*), count(DISTINCT trial_index), min(trial_index), max(trial_index), "
+              "sum(status = 'falsified'), sum(validated) FROM trials");
+  ASSERT_TRUE(final_count.ok) << final_count.text;
+  EXPECT_EQ(final_count.text, "200|200|0|199|200|200\n");
+  EXPECT_EQ(files_with_suffix(work() / "wit", ".json").size(), 200u);
+  EXPECT_TRUE(files_with_suffix(work() / "wit", ".tmp").empty()) << "no half-written witness left behind";
+  EXPECT_EQ(sql(db, "PRAGMA integrity_check").text, "ok\n");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. Discovery and help.
+
+TEST_F(CliTest, ListShowsSuitesMethodsAndSettings) {
+  const Result r = hyfal({"list"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "thermostat")) << r;
+  EXPECT_TRUE(contains(r.out, "rrt")) << r;
+  EXPECT_TRUE(contains(r.out, "--set step=")) << r;
+  EXPECT_TRUE(contains(r.out, "--set sample_window=")) << r;
+  EXPECT_EQ(r.err, "") << r;
+  EXPECT_TRUE(fs::is_empty(work())) << "list writes nothing";
+}
+
+TEST_F(CliTest, HelpMentionsOptions) {
+  const Result r = hyfal({"run", "--help"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "--set")) << r;
+  EXPECT_TRUE(contains(r.out, "--trials")) << r;
+  EXPECT_TRUE(contains(r.out, "--suite")) << r;
+  EXPECT_TRUE(fs::is_empty(work())) << "help writes nothing";
+
+  const Result top = hyfal({"--help"});
+  ASSERT_EQ(top.code, 0) << top;
+  for (const char* sub : {"list", "run", "table", "validate"}) EXPECT_TRUE(contains(top.out, sub)) << top;
+}
+
+}  // namespace

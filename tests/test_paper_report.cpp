@@ -1,0 +1,245 @@
+// Tests of results/paper_report: the paper's numbers beside ours, ratios to the first row,
+// the ordering check, metric extraction from TrialRecord::metrics, Markdown and CSV.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "results/paper_report.hpp"
+
+namespace hyfal {
+namespace {
+
+TrialRecord trial(std::int64_t nodes, double wall_s, TrialStatus status = TrialStatus::falsified,
+                  std::string metrics = "{}") {
+  TrialRecord r;
+  r.key = {"t/smoke", "suite", "{}", "rrt", "{}", 0};
+  r.status = status;
+  r.nodes = nodes;
+  r.wall_s = wall_s;
+  r.metrics = std::move(metrics);
+  return r;
+}
+
+ReportHeader header_of(std::string profile) {
+  ReportHeader h;
+  h.profile = std::move(profile);
+  return h;
+}
+
+// Two rows (A, B), two columns (nodes, coverage).
+PaperTable two_by_two(double a_nodes, double b_nodes, double a_cov, double b_cov) {
+  PaperTable t;
+  t.id = "test-table";
+  t.title = "Test table";
+  t.source = "seed 000 Table X";
+  t.suite = "suite";
+  t.notes = "hand-made";
+  t.columns = {{"nodes", TableMetric::nodes, ""}, {"coverage", TableMetric::coverage, "coverage"}};
+  t.rows = {{"A", "rrt", {{"step", "0.1"}}, {a_nodes, a_cov}}, {"B", "rrt", {}, {b_nodes, b_cov}}};
+  return t;
+}
+
+std::vector<std::vector<TrialRecord>> two_by_two_trials() {
+  return {
+      // A: nodes 100, 200, 300 -> 200; coverage 0.5, 0.7 (the third trial has none) -> 0.6
+      {trial(100, 1.0, TrialStatus::falsified, R"({"coverage":0.5})"),
+       trial(200, 2.0, TrialStatus::falsified, R"({"coverage":0.7,"beta":3})"),
+       trial(300, 3.0, TrialStatus::not_found, "{}")},
+      // B: nodes 400, 600 -> 500; coverage 0.2, 0.4 -> 0.3
+      {trial(400, 4.0, TrialStatus::falsified, R"({"coverage":0.2})"),
+       trial(600, 6.0, TrialStatus::falsified, R"({"coverage":0.4})")},
+  };
+}
+
+TEST(PaperReport, MeansAndRatiosToTheFirstRow) {
+  const PaperReport r = make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), two_by_two_trials());
+  ASSERT_EQ(r.rows.size(), 2u);
+  ASSERT_EQ(r.rows[0].cells.size(), 2u);
+  const auto& a = r.rows[0];
+  const auto& b = r.rows[1];
+  EXPECT_EQ(a.n, 3u);
+  EXPECT_EQ(b.n, 2u);
+  EXPECT_DOUBLE_EQ(a.falsified_rate, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(b.falsified_rate, 1.0);
+  EXPECT_DOUBLE_EQ(a.cells[0].ours, 200.0);
+  EXPECT_DOUBLE_EQ(b.cells[0].ours, 500.0);
+  EXPECT_DOUBLE_EQ(a.cells[1].ours, 0.6);
+  EXPECT_DOUBLE_EQ(b.cells[1].ours, 0.3);
+  EXPECT_EQ(a.cells[1].sample.n, 2u) << "only trials that have the metric count";
+  EXPECT_DOUBLE_EQ(a.cells[0].paper, 1000.0);
+  EXPECT_DOUBLE_EQ(a.cells[0].paper_ratio, 1.0);
+  EXPECT_DOUBLE_EQ(a.cells[0].ours_ratio, 1.0);
+  EXPECT_DOUBLE_EQ(b.cells[0].paper_ratio, 2.5);
+  EXPECT_DOUBLE_EQ(b.cells[0].ours_ratio, 2.5);
+  EXPECT_DOUBLE_EQ(b.cells[1].paper_ratio, 0.5);
+  EXPECT_DOUBLE_EQ(b.cells[1].ours_ratio, 0.5);
+  EXPECT_DOUBLE_EQ(a.nodes.median, 200.0);
+  EXPECT_DOUBLE_EQ(a.wall_s.mean, 2.0);
+  EXPECT_LT(a.nodes.ci_low, 200.0);
+  EXPECT_GT(a.nodes.ci_high, 200.0);
+  ASSERT_EQ(r.orderings.size(), 2u);
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::holds);
+  EXPECT_EQ(r.orderings[1].verdict, OrderingVerdict::holds);
+  EXPECT_EQ(r.orderings[1].paper_order, (std::vector<std::size_t>{1, 0}));  // B < A by coverage
+  EXPECT_EQ(r.orderings[1].ours_order, (std::vector<std::size_t>{1, 0}));
+}
+
+TEST(PaperReport, TimeAndFalsifiedRateColumnsAndErrorsExcluded) {
+  PaperTable t = two_by_two(1, 2, 3, 4);
+  t.columns = {{"time (s)", TableMetric::time_s, ""}, {"rate", TableMetric::falsified_rate, ""}};
+  auto trials = two_by_two_trials();
+  trials[1].push_back(trial(1'000'000, 100.0, TrialStatus::error));  // counts in n and the rate only
+  const PaperReport r = make_paper_report(t, trials);
+  EXPECT_DOUBLE_EQ(r.rows[1].cells[0].ours, 5.0);
+  EXPECT_DOUBLE_EQ(r.rows[1].cells[1].ours, 2.0 / 3.0);
+  EXPECT_EQ(r.rows[1].n, 3u);
+  EXPECT_EQ(r.rows[1].errors, 1u);
+  EXPECT_DOUBLE_EQ(r.rows[1].nodes.mean, 500.0);
+  EXPECT_DOUBLE_EQ(r.rows[0].cells[0].ours, 2.0);
+}
+
+TEST(PaperReport, OrderingDoesNotHoldWhenRowsSwap) {
+  // Paper: B needs fewer nodes than A; ours: A fewer than B.
+  const PaperReport r = make_paper_report(two_by_two(1000, 500, 0.8, 0.4), two_by_two_trials());
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::does_not_hold);
+  EXPECT_EQ(r.orderings[1].verdict, OrderingVerdict::holds);
+  const std::string md = to_markdown(r, header_of("smoke"));
+  EXPECT_NE(md.find("- ordering (nodes): paper B < A — ours A < B — does not hold"), std::string::npos) << md;
+  EXPECT_NE(md.find("- ordering (coverage): paper B < A — ours B < A — holds"), std::string::npos) << md;
+}
+
+TEST(PaperReport, NaNPaperValuesAreSkipped) {
+  PaperTable t = two_by_two(1000, 2500, 0.8, 0.4);
+  t.rows.insert(t.rows.begin() + 1, PaperRow{"C", "rrt", {}, {kNotReported, kNotReported}});
+  auto trials = two_by_two_trials();
+  // C is by far the slowest in ours: it would break the nodes order if it were not skipped.
+  trials.insert(trials.begin() + 1, std::vector<TrialRecord>{trial(9000, 9.0)});
+  const PaperReport r = make_paper_report(t, trials);
+  EXPECT_TRUE(std::isnan(r.rows[1].cells[0].paper));
+  EXPECT_TRUE(std::isnan(r.rows[1].cells[0].paper_ratio));
+  EXPECT_DOUBLE_EQ(r.rows[1].cells[0].ours_ratio, 45.0);
+  EXPECT_EQ(r.orderings[0].paper_order, (std::vector<std::size_t>{0, 2}));
+  EXPECT_EQ(r.orderings[0].ours_order, (std::vector<std::size_t>{0, 2}));
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::holds);
+  const std::string md = to_markdown(r, header_of("smoke"));
+  EXPECT_NE(md.find("| C | rrt | N/A | – | 9000 | 45.0 |"), std::string::npos) << md;
+
+  // A NaN paper value in the first row leaves every paper ratio of that column unknown.
+  PaperTable u = two_by_two(kNotReported, 2500, 0.8, 0.4);
+  const PaperReport s = make_paper_report(u, two_by_two_trials());
+  EXPECT_TRUE(std::isnan(s.rows[1].cells[0].paper_ratio));
+  EXPECT_EQ(s.orderings[0].verdict, OrderingVerdict::not_checked);  // one row left
+  // A paper vector shorter than the columns reads as NaN.
+  u.rows[1].paper = {2500};
+  EXPECT_TRUE(std::isnan(make_paper_report(u, two_by_two_trials()).rows[1].cells[1].paper));
+}
+
+TEST(PaperReport, TiesInOursWithinOnePercentAreEqual) {
+  // Paper ties exactly; ours 200 and 201 (0.5 %) tie, 200 and 210 (4.8 %) do not.
+  EXPECT_EQ(check_ordering({1.0, 1.0}, {200.0, 201.0}).verdict, OrderingVerdict::holds);
+  EXPECT_EQ(check_ordering({1.0, 1.0}, {200.0, 210.0}).verdict, OrderingVerdict::does_not_hold);
+  // A strict paper order is not reproduced by a tie of ours.
+  EXPECT_EQ(check_ordering({1.0, 2.0}, {200.0, 201.0}).verdict, OrderingVerdict::does_not_hold);
+  EXPECT_EQ(check_ordering({1.0, 2.0}, {200.0, 210.0}).verdict, OrderingVerdict::holds);
+  const OrderingCheck c = check_ordering({3.0, 1.0, 2.0}, {30.0, 10.0, 10.05});
+  EXPECT_EQ(c.paper_order, (std::vector<std::size_t>{1, 2, 0}));
+  EXPECT_EQ(c.ours_order, (std::vector<std::size_t>{1, 2, 0}));
+  EXPECT_EQ(c.ours_tied_with_previous, (std::vector<bool>{false, true, false}));
+  EXPECT_EQ(c.verdict, OrderingVerdict::does_not_hold);  // paper 1 < 2, ours tie
+  // Missing ours: not checked.
+  EXPECT_EQ(check_ordering({1.0, 2.0}, {1.0, kNotReported}).verdict, OrderingVerdict::not_checked);
+  EXPECT_EQ(check_ordering({1.0}, {1.0}).verdict, OrderingVerdict::not_checked);
+}
+
+TEST(PaperReport, MetricKeyExtraction) {
+  const std::vector<TrialRecord> trials{
+      trial(1, 1, TrialStatus::falsified, R"({"coverage":0.25,"beta":2})"),
+      trial(1, 1, TrialStatus::falsified, R"({"beta":4})"),
+      trial(1, 1, TrialStatus::falsified, R"({"coverage":"high"})"),  // not a number
+      trial(1, 1, TrialStatus::falsified, "not json"),
+      trial(1, 1, TrialStatus::falsified, "[1,2]"),
+      trial(1, 1, TrialStatus::timeout, R"({"coverage":1})"),
+  };
+  EXPECT_EQ(metric_values(trials, "coverage"), (std::vector<double>{0.25, 1.0}));
+  EXPECT_EQ(metric_values(trials, "beta"), (std::vector<double>{2.0, 4.0}));
+  EXPECT_TRUE(metric_values(trials, "trees").empty());
+
+  PaperTable t = two_by_two(1, 2, 3, 4);
+  t.columns[1].metric_key = "beta";
+  const PaperReport r = make_paper_report(t, {trials, {}});
+  EXPECT_DOUBLE_EQ(r.rows[0].cells[1].ours, 3.0);
+  EXPECT_TRUE(std::isnan(r.rows[1].cells[1].ours)) << "no trials: no value";
+  EXPECT_EQ(r.orderings[1].verdict, OrderingVerdict::not_checked);
+}
+
+TEST(PaperReport, CensoredMeansAreMarked) {
+  auto trials = two_by_two_trials();
+  trials[1].push_back(trial(700, 7.0, TrialStatus::timeout));
+  const PaperReport r = make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), trials);
+  EXPECT_EQ(r.rows[1].cells[0].ours_bound, Bound::lower);
+  EXPECT_EQ(r.rows[1].cells[0].ours_ratio_bound, Bound::lower);
+  EXPECT_EQ(r.rows[1].cells[1].ours_bound, Bound::exact) << "coverage is not censored";
+  EXPECT_EQ(r.rows[0].cells[0].ours_bound, Bound::exact);
+  const std::string md = to_markdown(r, header_of("smoke"));
+  EXPECT_NE(md.find("| B | rrt | 2500 | 2.50 | ≥567 | ≥2.83 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("1 ⏱"), std::string::npos) << md;
+  EXPECT_NE(md.find("≥ right-censored"), std::string::npos) << md;
+
+  // A censored first row makes the other rows' ratios upper bounds.
+  std::swap(trials[0], trials[1]);
+  const PaperReport s = make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), trials);
+  EXPECT_EQ(s.rows[0].cells[0].ours_ratio_bound, Bound::exact);
+  EXPECT_EQ(s.rows[1].cells[0].ours_ratio_bound, Bound::upper);
+}
+
+TEST(PaperReport, MarkdownHeader) {
+  const PaperReport r = make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), two_by_two_trials());
+  ReportHeader h;
+  h.profile = "quick";
+  h.trials = 3;
+  h.timeout_s = 10;
+  h.max_nodes = 5000;
+  h.host = "box";
+  h.nproc = 16;
+  h.cpu_model = "Some CPU";
+  h.date_utc = "2026-01-02 03:04:05 UTC";
+  h.git_commit = "abcdef123456";
+  const std::string md = to_markdown(r, h);
+  for (const char* needle :
+       {"# test-table: Test table\n", "- source: seed 000 Table X\n", "quick: 3 trials per row, timeout 10 s",
+        "box, nproc 16, Some CPU", "- date (UTC): 2026-01-02 03:04:05 UTC\n", "- git commit: abcdef123456\n",
+        "- notes: hand-made\n", "## nodes\n", "## coverage\n",
+        "| row | method | paper | paper × of row 1 | ours | ours × of row 1 |",
+        "| A | rrt | 1000 | 1.00 | 200 | 1.00 |", "| B | rrt | 2500 | 2.50 | 500 | 2.50 |",
+        "| A | rrt | 0.8 | 1.00 | 0.600 | 1.00 |", "| A | rrt | step=0.1 | 3 | 0.67 | 200 |"})
+    EXPECT_NE(md.find(needle), std::string::npos) << needle << "\n" << md;
+}
+
+TEST(PaperReport, CsvLinesAndEscaping) {
+  PaperTable t = two_by_two(1000, kNotReported, 0.8, 0.4);
+  t.rows[0].label = "t2go, \"fast\"";
+  t.columns[1].name = "coverage\nafter 5000";
+  const PaperReport r = make_paper_report(t, two_by_two_trials());
+  const std::string csv = to_csv(r, header_of("smoke"));
+  const std::string header =
+      "table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,ci_low,ci_high,"
+      "timeouts\r\n";
+  ASSERT_EQ(csv.substr(0, header.size()), header);
+  std::size_t lines = 0;
+  for (std::size_t p = 0; (p = csv.find("\r\n", p)) != std::string::npos; p += 2) ++lines;
+  EXPECT_EQ(lines, 5u) << "header + 2 rows x 2 columns";
+  EXPECT_NE(csv.find("test-table,smoke,\"t2go, \"\"fast\"\"\",rrt,nodes,1000,200,1,1,3,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",\"coverage\nafter 5000\",0.8,0.6,1,1,2,"), std::string::npos) << csv;
+  // B's nodes: paper N/A -> empty paper and paper_ratio; ours 500, ratio 2.5; median 500.
+  EXPECT_NE(csv.find("test-table,smoke,B,rrt,nodes,,500,,2.5,2,1,500,"), std::string::npos) << csv;
+}
+
+TEST(PaperReport, RowCountMismatchThrows) {
+  EXPECT_THROW(make_paper_report(two_by_two(1, 2, 3, 4), {{}}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hyfal
