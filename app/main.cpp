@@ -149,6 +149,35 @@ int cmd_table(const std::string& db, const std::string& experiment, const std::s
   return 0;
 }
 
+// --- instance export ----------------------------------------------------------------------------
+int cmd_instance_export(const std::string& suite_name, const std::vector<std::string>& sets_text) {
+  const SuiteEntry* suite = find_suite(suite_name);
+  if (!suite) throw UsageError(fmt::format("unknown suite '{}' (see 'hyfal list')", suite_name));
+  std::vector<std::pair<std::string, std::string>> sets;
+  for (const auto& s : sets_text) sets.push_back(split_setting(s));
+  Json instance;
+  try {
+    instance = resolve_options(suite->parameters, sets);
+    if (suite->export_instance) {
+      std::cout << suite->export_instance(instance).dump() << '\n';
+      return 0;
+    }
+    const auto system = suite->make(instance);  // no suite-specific export: the SystemInfo facts
+    const SystemInfo& info = system->info();
+    std::cout << Json{{"format", "hyfal-instance/1"}, {"suite", suite->name}, {"instance", instance},
+                      {"state_names", info.state_names}, {"input_names", info.input_names},
+                      {"initial", {{"mode", info.initial_mode}, {"x", info.initial_state}}},
+                      {"other_initial_states", info.other_initial_states},
+                      {"sampling_box", {{"lo", info.sampling_box.lo}, {"hi", info.sampling_box.hi}}},
+                      {"step_duration", info.step_duration}}
+                     .dump()
+              << '\n';
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  return 0;
+}
+
 // --- validate ---------------------------------------------------------------------------------
 int cmd_validate(const std::string& file) {
   Json j;
@@ -263,6 +292,14 @@ int main(int argc, char** argv) {
   reproduce->add_option("--witness-dir", pa.witness_dir, "directory for witness JSON files")->capture_default_str();
   reproduce->add_option("--out-dir", pa.out_dir, "where ID.md and ID.csv are written")->capture_default_str();
 
+  std::string xsuite;
+  std::vector<std::string> xsets;
+  auto* instance = app.add_subcommand("instance", "export a suite instance as JSON for outside tools");
+  instance->require_subcommand(1);
+  auto* instance_export = instance->add_subcommand("export", "print the instance (e.g. navigation maze, dynamics, properties) as JSON");
+  instance_export->add_option("--suite", xsuite, "suite name")->required();
+  instance_export->add_option("--set", xsets, "instance parameter, key=value (repeatable)");
+
   std::string vfile;
   auto* validate = app.add_subcommand("validate", "re-simulate a witness JSON file with a tight integrator and check it");
   validate->add_option("file", vfile, "witness JSON file")->required();
@@ -272,7 +309,7 @@ int main(int argc, char** argv) {
     bool known = false;
     for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) known = known || sub->get_name() == cmd;
     if (!known) {
-      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce; see 'hyfal --help')\n", cmd);
+      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance; see 'hyfal --help')\n", cmd);
       return 2;
     }
   }
@@ -291,6 +328,7 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(ra);
     if (*table) return cmd_table(tdb, texp, tformat, tout);
     if (*validate) return cmd_validate(vfile);
+    if (*instance_export) return cmd_instance_export(xsuite, xsets);
     if (*reproduce) return cli::cmd_reproduce(pa);
   } catch (const UsageError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());

@@ -270,6 +270,14 @@ int cmd_reproduce(const ReproduceArgs& a) {
   const fs::path out_dir(a.out_dir);
   write_file_atomic((out_dir / (table->id + ".md")).string(), markdown);
   write_file_atomic((out_dir / (table->id + ".csv")).string(), to_csv(report, header));
+  for (const std::string& name : table->series) {  // per-trial series, e.g. Fig. 6's sorted n_j
+    std::string csv = "row,trial_index,x,y\r\n";
+    for (std::size_t r = 0; r < groups.size(); ++r)
+      for (const TrialRecord& record : rows_trials[r])
+        for (const auto& [x, y] : store.series_of(record.key, name))
+          csv += fmt::format("\"{}\",{},{},{}\r\n", table->rows[r].label, record.key.trial_index, x, y);
+    write_file_atomic((out_dir / (table->id + "-" + name + ".csv")).string(), csv);
+  }
   std::cout << markdown << std::flush;
   fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, jobs.size(),
              (out_dir / (table->id + ".md")).string(), (out_dir / (table->id + ".csv")).string(), a.db);

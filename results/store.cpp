@@ -230,6 +230,10 @@ TrialStore::TrialStore(std::string path, Connection connection)
                   "ORDER BY suite, instance, method, config, trial_index, experiment",
                   kTrialColumns)
           .c_str());
+  select_series_ = prepare(
+      "SELECT s.x, s.y FROM series s JOIN trials t ON s.trial_id = t.id WHERE t.experiment = ?1 AND "
+      "t.suite = ?2 AND t.instance = ?3 AND t.method = ?4 AND t.config = ?5 AND t.trial_index = ?6 "
+      "AND s.name = ?7 ORDER BY s.rowid");
   select_experiments_ = prepare("SELECT DISTINCT experiment FROM trials ORDER BY experiment");
 }
 
@@ -397,6 +401,16 @@ std::vector<TrialRecord> TrialStore::load(std::optional<std::string> experiment)
     records.push_back(std::move(record));
   }
   return records;
+}
+
+std::vector<std::pair<double, double>> TrialStore::series_of(const TrialKey& key, const std::string& name) {
+  StatementUse use(select_series_.get());
+  bind_key_without_index(use, key);
+  use.bind(6, key.trial_index);
+  use.bind(7, name);
+  std::vector<std::pair<double, double>> points;
+  while (use.step()) points.emplace_back(use.real(0), use.real(1));
+  return points;
 }
 
 std::vector<std::string> TrialStore::experiments() {

@@ -75,6 +75,9 @@ class TrialStore {
   // The distinct experiment names stored, sorted.
   std::vector<std::string> experiments();
 
+  // The points of series `name` of the stored trial with this key (index included), in order.
+  std::vector<std::pair<double, double>> series_of(const TrialKey& key, const std::string& name);
+
  private:
   struct ConnectionCloser {
     void operator()(sqlite3* connection) const noexcept;
@@ -97,6 +100,7 @@ class TrialStore {
                      std::span<const std::pair<double, double>> points);
   Statement insert_series_point_;
   Statement delete_error_series_;
+  Statement select_series_;
   Statement delete_error_trial_;
   Statement select_trial_indices_;
   Statement select_trials_;

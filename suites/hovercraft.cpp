@@ -188,7 +188,7 @@ PaperTable kim_table2() {
             {"Heavy Bias", "enhanced-rrt", {{"sampling", "heavy"}}, {912.0, 408.3}},
             {"Adaptive Bias", "enhanced-rrt", {{"sampling", "adaptive"}}, {678.0, 342.5}}};
   t.smoke = {2, 10.0, 20000, {}};
-  t.quick = {5, 120.0, 1'000'000, {}};
+  t.quick = {10, 120.0, 1'000'000, {}};
   t.paper = {10, 3600.0, 10'000'000, {}};
   t.notes =
       "Paper: 10 trials on a 1 GHz PC, so its times are not comparable with ours; compare the node "

@@ -109,10 +109,11 @@ PaperTable kim_fig5() {
   t.source = "seed 000 Example 3.3, Figs. 5-6 (a picture, no numbers)";
   t.suite = "linear";
   t.columns = {{"coverage after 5000 nodes", TableMetric::coverage, "coverage"}};
-  t.rows = {{"Euclidean", "enhanced-rrt", {}, {kNotReported}},
-            {"History-based", "enhanced-rrt", {{"history", "tree"}}, {kNotReported}}};
+  t.rows = {{"Euclidean", "enhanced-rrt", {{"record_failed_extensions", "true"}}, {kNotReported}},
+            {"History-based", "enhanced-rrt", {{"history", "tree"}, {"record_failed_extensions", "true"}}, {kNotReported}}};
+  t.series = {"failed_extensions_sorted", "coverage"};  // Fig. 6, and c(T) against nodes
   t.smoke = {2, 20.0, 5000, {}};
-  t.quick = {5, 120.0, 5000, {}};
+  t.quick = {10, 120.0, 5000, {}};
   t.paper = {10, 3600.0, 5000, {}};
   t.notes =
       "The paper reports no number: Fig. 5 shows the tree after 5000 nodes, and the reachable set is "

@@ -568,7 +568,8 @@ SuiteEntry navigation_suite() {
            {"integration_step", 0.01, "RK4 step ε, s"},
            {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"}},
           make_navigation,
-          {}};
+          {},
+          navigation_instance_json};
 }
 
 }  // namespace hyfal

@@ -209,6 +209,20 @@ TEST_F(TrialStoreTest, AnErroredTrialIsRetriedAndReplaced) {
   EXPECT_THROW(store.insert(make_record("rrt", 0)), StoreError);  // a real result is never replaced
 }
 
+TEST_F(TrialStoreTest, SeriesAreStoredWithTheirTrialAndReadBackInOrder) {
+  TrialStore store = TrialStore::open(database_path());
+  TrialRecord r = make_record("rrt", 2);
+  r.series = {{"coverage", {{100.0, 0.1}, {200.0, 0.15}, {300.0, 0.18}}}, {"beta", {{50.0, 1.0}}}};
+  store.insert(r);
+  EXPECT_EQ(store.series_of(r.key, "coverage"),
+            (std::vector<std::pair<double, double>>{{100.0, 0.1}, {200.0, 0.15}, {300.0, 0.18}}));
+  EXPECT_EQ(store.series_of(r.key, "beta").size(), 1u);
+  EXPECT_TRUE(store.series_of(r.key, "missing").empty());
+  TrialKey other = r.key;
+  other.trial_index = 3;
+  EXPECT_TRUE(store.series_of(other, "coverage").empty());
+}
+
 TEST_F(TrialStoreTest, StoredTrialIndicesOfOneKey) {
   auto store = TrialStore::open(database_path());
   for (const std::int64_t index : {5, 0, 2}) store.insert(make_record("rrt", index));

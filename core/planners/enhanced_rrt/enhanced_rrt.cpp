@@ -264,7 +264,10 @@ class EnhancedRrt final : public Planner {
         if (o_.sampling == Sampling::adaptive) record_beta(adaptive, in_spec, false, iteration, beta_series);
         continue;
       }
-      if (o_.history != History::none) mark_applied(t, near, chosen, nu);
+      // Without history weighting the tree still adds x_new (Alg. 2), but a repeated input is
+      // counted as a failed extension all the same, so Fig. 6 can compare n_j with and without.
+      if (o_.history == History::none && was_applied(t, near, chosen, nu)) ++near_info.failed_extensions;
+      mark_applied(t, near, chosen, nu);
       std::copy_n(states.data() + chosen * n, n, x_new.begin());
       const PropagationResult& r = results[chosen];
       const double rho_before = metric.distance(x_near, x_rand);
