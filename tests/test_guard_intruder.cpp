@@ -298,7 +298,7 @@ void capped_run(const char* method_name, std::int64_t max_nodes) {
     GTEST_SKIP() << method_name << " is not registered";
   }
   auto planner = m->make(resolve_options(m->options, {}));
-  const PlannerContext ctx{*sys, sys->info().parameters, 11, PlannerLimits{15.0, max_nodes}, {}};
+  const PlannerContext ctx{*sys, sys->info().parameters, 126704, PlannerLimits{15.0, max_nodes}, {}};
   PlannerOutcome out;
   ASSERT_NO_THROW(out = planner->solve(ctx));
   EXPECT_NE(out.status, TrialStatus::error);

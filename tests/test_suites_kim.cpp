@@ -122,8 +122,9 @@ TEST(Linear, DynamicsSpecAndTable) {
   EXPECT_EQ(t.columns[0].metric, TableMetric::coverage);
   EXPECT_EQ(t.columns[0].metric_key, "coverage");
   ASSERT_EQ(t.rows.size(), 2u);
-  EXPECT_TRUE(t.rows[0].settings.empty());
-  EXPECT_EQ(t.rows[1].settings, (Settings{{"history", "tree"}}));
+  EXPECT_EQ(t.rows[0].settings, (Settings{{"record_failed_extensions", "true"}}));
+  EXPECT_EQ(t.rows[1].settings, (Settings{{"history", "tree"}, {"record_failed_extensions", "true"}}));
+  EXPECT_EQ(t.series, (std::vector<std::string>{"failed_extensions_sorted", "coverage"}));
   for (const auto& r : t.rows) {
     EXPECT_EQ(r.method, "enhanced-rrt");
     ASSERT_EQ(r.paper.size(), 1u);
@@ -325,8 +326,10 @@ TEST(Hovercraft, TablesDeclared) {
   const auto& tt = find_suite("thermostat")->tables;
   ASSERT_EQ(tt.size(), 1u);
   EXPECT_EQ(tt[0].id, "kim-table1");
-  ASSERT_EQ(tt[0].rows.size(), 2u);
+  ASSERT_EQ(tt[0].rows.size(), 3u);
   EXPECT_EQ(tt[0].rows[1].settings, (Settings{{"selection", "t2go"}}));
+  EXPECT_EQ(tt[0].rows[2].settings, (Settings{{"selection", "t2go"}, {"t2go_inputs", "false"}}));
+  EXPECT_TRUE(std::isnan(tt[0].rows[2].paper[0]));
   EXPECT_EQ(tt[0].rows[0].paper, (std::vector<double>{2284.0, 376.4}));
   EXPECT_EQ(tt[0].rows[1].paper, (std::vector<double>{1627.0, 231.0}));
   EXPECT_EQ(tt[0].smoke.trials, 3);
