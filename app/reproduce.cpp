@@ -16,6 +16,7 @@
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "results/paper_report.hpp"
+#include "results/text_format.hpp"
 #include "suites/registry.hpp"
 
 #ifndef HYFAL_SOURCE_DIR
@@ -275,7 +276,8 @@ int cmd_reproduce(const ReproduceArgs& a) {
     for (std::size_t r = 0; r < groups.size(); ++r)
       for (const TrialRecord& record : rows_trials[r])
         for (const auto& [x, y] : store.series_of(record.key, name))
-          csv += fmt::format("\"{}\",{},{},{}\r\n", table->rows[r].label, record.key.trial_index, x, y);
+          csv += fmt::format("{},{},{},{}\r\n", text::csv_field(table->rows[r].label), record.key.trial_index,
+                             text::csv_number(x), text::csv_number(y));
     write_file_atomic((out_dir / (table->id + "-" + name + ".csv")).string(), csv);
   }
   std::cout << markdown << std::flush;

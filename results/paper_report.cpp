@@ -1,6 +1,8 @@
 #include "results/paper_report.hpp"
 
 #include <fmt/format.h>
+
+#include "results/text_format.hpp"
 #include <fmt/ranges.h>  // fmt::join
 
 #include <algorithm>
@@ -16,7 +18,8 @@
 namespace hyfal {
 namespace {
 
-constexpr std::string_view kMissing = "–";
+using namespace text;
+
 
 double ratio(double value, double first) {
   if (std::isnan(value) || std::isnan(first) || first == 0.0) return kNotReported;
@@ -85,18 +88,6 @@ PaperReportCell make_cell(const PaperColumn& column, const PaperReportRow& row,
 
 // --- formatting -------------------------------------------------------------------------------
 
-// Three significant digits in fixed notation; exponent notation only at the extremes.
-std::string format_significant(double value, int digits = 3) {
-  if (std::isnan(value)) return std::string(kMissing);
-  if (value == 0.0 || !std::isfinite(value)) return fmt::format("{}", value);
-  const double magnitude = std::abs(value);
-  if (magnitude < 1e-3 || magnitude >= 1e6) return fmt::format("{:.{}g}", value, digits);
-  int decimals = std::max(0, digits - 1 - static_cast<int>(std::floor(std::log10(magnitude))));
-  if (decimals > 0 && std::round(magnitude * std::pow(10.0, decimals)) >= std::pow(10.0, digits))
-    --decimals;
-  return fmt::format("{:.{}f}", value, decimals);
-}
-
 // Our value of a column: node counts as whole numbers once they are large, rates with two decimals.
 std::string format_ours(double value, TableMetric metric) {
   if (std::isnan(value)) return std::string(kMissing);
@@ -130,23 +121,6 @@ std::string_view bound_mark(Bound bound) {
 std::string marked(std::string cell, Bound bound) {
   if (cell == kMissing || bound == Bound::exact) return cell;
   return fmt::format("{}{}", bound_mark(bound), cell);
-}
-
-std::string markdown_cell(std::string_view text) {
-  std::string cell;
-  for (const char c : text) {
-    if (c == '|')
-      cell += "\\|";
-    else if (c == '\n' || c == '\r')
-      cell += ' ';
-    else
-      cell += c;
-  }
-  return cell;
-}
-
-std::string markdown_row(const std::vector<std::string>& cells) {
-  return fmt::format("| {} |\n", fmt::join(cells, " | "));
 }
 
 std::string markdown_separator(std::size_t text_columns, std::size_t columns) {
@@ -194,22 +168,6 @@ std::string_view verdict_text(OrderingVerdict verdict) {
     case OrderingVerdict::not_checked: return "not checked";
   }
   return "not checked";
-}
-
-std::string csv_field(std::string_view text) {
-  if (text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
-  std::string field = "\"";
-  for (const char c : text) {
-    if (c == '"') field += '"';
-    field += c;
-  }
-  field += '"';
-  return field;
-}
-
-std::string csv_number(double value) {
-  if (std::isnan(value)) return {};
-  return fmt::format("{}", value);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "results/table_writer.hpp"
 
 #include <fmt/format.h>
+
+#include "results/text_format.hpp"
 #include <fmt/ranges.h>  // fmt::join
 
 #include <algorithm>
@@ -12,23 +14,9 @@
 namespace hyfal {
 namespace {
 
-constexpr std::string_view kMissing = "–";
-constexpr std::string_view kAtLeast = "≥";
+using namespace text;
 
-// Times span microseconds to hours: three significant digits in fixed notation reads best, and
-// exponent notation is kept for the extremes where fixed would print a row of zeros.
-std::string format_significant(double value, int digits = 3) {
-  if (std::isnan(value)) return std::string(kMissing);
-  if (value == 0.0 || !std::isfinite(value)) return fmt::format("{}", value);
-  const double magnitude = std::abs(value);
-  if (magnitude < 1e-3 || magnitude >= 1e6) return fmt::format("{:.{}g}", value, digits);
-  int decimals = std::max(0, digits - 1 - static_cast<int>(std::floor(std::log10(magnitude))));
-  // Rounding may carry into a new leading digit (9.996 -> 10.00); drop the extra decimal.
-  if (decimals > 0 &&
-      std::round(magnitude * std::pow(10.0, decimals)) >= std::pow(10.0, digits))
-    --decimals;
-  return fmt::format("{:.{}f}", value, decimals);
-}
+constexpr std::string_view kAtLeast = "≥";
 
 std::string format_count(double value) {
   if (std::isnan(value)) return std::string(kMissing);
@@ -52,24 +40,6 @@ std::string mark_censored(std::string cell, bool censored) {
   return fmt::format("{}{}", kAtLeast, cell);
 }
 
-// Markdown has no escape for a line break inside a cell, and "|" would end the cell.
-std::string markdown_cell(std::string_view text) {
-  std::string cell;
-  for (const char c : text) {
-    if (c == '|')
-      cell += "\\|";
-    else if (c == '\n' || c == '\r')
-      cell += ' ';
-    else
-      cell += c;
-  }
-  return cell;
-}
-
-std::string markdown_row(const std::vector<std::string>& cells) {
-  return fmt::format("| {} |\n", fmt::join(cells, " | "));
-}
-
 bool is_censored(const GroupSummary& group) { return group.timeouts > 0 || group.node_caps > 0; }
 
 std::string stopped_trials_cell(const GroupSummary& group) {
@@ -78,22 +48,6 @@ std::string stopped_trials_cell(const GroupSummary& group) {
   if (group.node_caps > 0) parts.push_back(fmt::format("{} node cap", group.node_caps));
   if (parts.empty()) return "0";
   return fmt::format("{}", fmt::join(parts, ", "));
-}
-
-std::string csv_field(std::string_view text) {
-  if (text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
-  std::string field = "\"";
-  for (const char c : text) {
-    if (c == '"') field += '"';
-    field += c;
-  }
-  field += '"';
-  return field;
-}
-
-std::string csv_number(double value) {
-  if (std::isnan(value)) return {};
-  return fmt::format("{}", value);
 }
 
 }  // namespace
