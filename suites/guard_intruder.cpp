@@ -318,7 +318,7 @@ PaperTable kim_table3() {
        {7520, 2429.2, kNotReported}},
   };
   t.smoke = {2, 10.0, 20000, {}};
-  t.quick = {5, 60.0, 1'000'000, {}};
+  t.quick = {10, 60.0, 1'000'000, {}};
   t.paper = {10, 3600.0, 100'000'000, {}};
   t.notes =
       "Guard law constants, intruder speed bound (15 m/s), initial conditions, δt = 1 s, Ū = 3 x 3 "
