@@ -52,7 +52,7 @@ struct PaperTable {
   std::string notes;     // what differs from the paper's set-up, and why
   // Per-trial series (PlannerOutcome::series names) exported to <id>-<name>.csv, e.g. the
   // sorted n_j of seed 000 Fig. 6 or coverage against nodes.
-  std::vector<std::string> series;
+  std::vector<std::string> series = {};
 };
 
 inline constexpr double kNotReported = std::numeric_limits<double>::quiet_NaN();
