@@ -340,7 +340,7 @@ class EnhancedRrt final : public Planner {
   // Line 3 of Alg. 4: x_near = argmin over the candidates of rho, t2go, or H(., x_rand; rho|t2go).
   NodeId select_near(const System& sys, Tree& t, const WeightedEuclidean& metric, TimeToGo& t2go,
                      std::span<const double> x_rand, bool in_spec, std::vector<Neighbor>& neighbors,
-                     std::vector<double>& dist, std::vector<std::uint32_t>& fail, std::vector<NodeId>& ids) const {
+                     std::vector<double>& dist, std::vector<std::uint32_t>& fail, std::vector<NodeId>& ids) {
     const bool skip_excluded = in_spec;
     auto distance_of = [&](NodeId id, double rho) {
       return o_.selection == Selection::t2go ? t2go(t.nodes.info(id).mode, t.nodes.state(id), x_rand) : rho;
@@ -351,7 +351,7 @@ class EnhancedRrt final : public Planner {
       fail.clear();
       ids.clear();
       const auto& w = metric.weights();
-      thread_local std::vector<double> z;
+      std::vector<double>& z = query_;
       z.resize(n);
       for (std::size_t i = 0; i < n; ++i) z[i] = std::sqrt(w[i]) * x_rand[i];
       for (std::size_t id = 0; id < N; ++id) {
@@ -365,14 +365,12 @@ class EnhancedRrt final : public Planner {
       }
       if (o_.selection == Selection::t2go) {
         bool any = false;
+        t2go_.resize(ids.size());
         for (std::size_t i = 0; i < ids.size(); ++i) {
-          const double tg = t2go(t.nodes.info(ids[i]).mode, t.nodes.state(ids[i]), x_rand);
-          any = any || std::isfinite(tg);
-          if (std::isfinite(tg) || any) dist[i] = tg;
-          else dist[i] = tg;
+          t2go_[i] = t2go(t.nodes.info(ids[i]).mode, t.nodes.state(ids[i]), x_rand);
+          any = any || std::isfinite(t2go_[i]);
         }
-        if (!any)  // no finite t2go anywhere: rho decides (III.2 remark)
-          for (std::size_t i = 0; i < ids.size(); ++i) dist[i] = metric.distance(t.nodes.state(ids[i]), x_rand);
+        if (any) std::copy(t2go_.begin(), t2go_.end(), dist.begin());  // else rho decides (III.2 remark)
       }
       const std::size_t best = argmin_history_weight(dist, fail);
       return best == kNoCandidate ? kNoNode : ids[best];
@@ -398,16 +396,14 @@ class EnhancedRrt final : public Planner {
       ask *= 4;  // too many excluded among the nearest: look further
     }
     if (ids.empty()) return kNoNode;
-    if (o_.selection == Selection::t2go) {
-      std::vector<double>& rho = fail.empty() ? dist : dist;  // dist holds rho now
+    if (o_.selection == Selection::t2go) {  // dist holds rho; t2go replaces it when any is finite
       bool any = false;
-      thread_local std::vector<double> tg;
-      tg.resize(ids.size());
+      t2go_.resize(ids.size());
       for (std::size_t i = 0; i < ids.size(); ++i) {
-        tg[i] = distance_of(ids[i], rho[i]);
-        any = any || std::isfinite(tg[i]);
+        t2go_[i] = distance_of(ids[i], dist[i]);
+        any = any || std::isfinite(t2go_[i]);
       }
-      if (any) std::copy(tg.begin(), tg.end(), dist.begin());  // else rho decides
+      if (any) std::copy(t2go_.begin(), t2go_.end(), dist.begin());
     }
     if (o_.history == History::knn) {
       fail.resize(ids.size());
@@ -418,6 +414,7 @@ class EnhancedRrt final : public Planner {
   }
 
   EnhancedOptions o_;
+  std::vector<double> t2go_, query_;  // select_near's buffers, reused across iterations
 };
 
 }  // namespace
