@@ -11,7 +11,12 @@
 #include <span>
 #include <vector>
 
+// nanoflann 1.4's dynamic index leaves root_bbox uninitialized until the first build; GCC's
+// -Wmaybe-uninitialized reports it from inside the header. The value is never read before set.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <nanoflann.hpp>
+#pragma GCC diagnostic pop
 
 #include "core/tree.hpp"
 
