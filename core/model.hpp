@@ -27,6 +27,8 @@
 
 namespace hyfal {
 
+class Decomposition;  // core/decomposition.hpp
+
 using Mode = std::uint64_t;
 using Json = nlohmann::json;
 
@@ -173,6 +175,8 @@ class System {
   virtual double spec(Mode q, std::span<const double> x, std::span<const double> p) const = 0;
   virtual std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const = 0;
   std::unique_ptr<Propagator> make_propagator() const { return make_propagator(info().integrator); }
+  // The region decomposition of seed 002 Sect. 3.2 (HyDICE), when the suite provides one.
+  virtual const Decomposition* decomposition() const { return nullptr; }
 };
 
 }  // namespace hyfal

@@ -56,6 +56,12 @@ class ModelSystem final : public System {
     return std::make_unique<ModelPropagator<M>>(model_, s);
   }
   using System::make_propagator;
+  const Decomposition* decomposition() const override {
+    if constexpr (requires { { model_.decomposition() } -> std::convertible_to<const Decomposition*>; })
+      return model_.decomposition();
+    else
+      return nullptr;
+  }
 
  private:
   M model_;

@@ -83,6 +83,8 @@
 //    radian of heading, the full speed range 3 m/s, or a full 40° of b each count as a tenth of
 //    a terrain.
 //  - goal_point: the centre of the unsafe terrain, θ = 0, at rest.
+//  - HyDICE decomposition (seed 002 Sect. 3.2): 2 x 2 regions per terrain, neighbours across open
+//    passages only, coverage cells of s / 16 (NavigationDecomposition below).
 //  - Coverage grid over (x, y), spacing n s / min(4n, 1024): a quarter terrain up to n = 256,
 //    then at most 1025 x 1025 points (spacing s at n = 1024, 4 MB of grid).
 #include "suites/navigation.hpp"
@@ -96,6 +98,7 @@
 
 #include <fmt/format.h>
 
+#include "core/decomposition.hpp"
 #include "core/rng.hpp"
 #include "suites/registry.hpp"
 
@@ -357,12 +360,81 @@ DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, 
 
 namespace {
 
+// The HyDICE decomposition (seed 002 Sect. 3.2.1): each terrain is a g x g grid of regions
+// (g = kRegionGrid), region id = q g^2 + r_in g + c_in; G_D edges: the 8-neighbourhood inside a
+// terrain, and across each open side of a terrain to the region straight across and its two
+// diagonal neighbours there (REGIONTRANS; walls are known, so no edge crosses a wall). A region
+// is unsafe when it lies in the unsafe terrain. Projection (x, y); coverage cells of side
+// s / (g kCellsPerRegion).
+constexpr int kRegionGrid = 2;
+constexpr int kCellsPerRegion = 8;
+
+class NavigationDecomposition final : public Decomposition {
+ public:
+  NavigationDecomposition(std::shared_ptr<const NavigationInstance> maze, Mode unsafe)
+      : maze_(std::move(maze)), unsafe_(unsafe) {}
+  RegionId region_of(Mode q, std::span<const double> x) const override {
+    const auto lo = maze_->corner(q);
+    const double side = maze_->terrain_size() / kRegionGrid;
+    auto index = [&](double v) {
+      double c = std::floor(v / side);
+      if (!(c >= 0.0)) c = 0.0;
+      if (c > kRegionGrid - 1) c = kRegionGrid - 1;
+      return static_cast<RegionId>(c);
+    };
+    return q * kG2 + index(x[1] - lo[1]) * kRegionGrid + index(x[0] - lo[0]);
+  }
+  double volume(RegionId) const override {
+    const double side = maze_->terrain_size() / kRegionGrid;
+    return side * side;
+  }
+  void neighbors(RegionId r, std::vector<RegionId>& out) const override {
+    out.clear();
+    const Mode q = r / kG2;
+    const int ri = static_cast<int>(r % kG2) / kRegionGrid, ci = static_cast<int>(r % kG2) % kRegionGrid;
+    const int g = kRegionGrid;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        if (dr == 0 && dc == 0) continue;
+        const int rr = ri + dr, cc = ci + dc;
+        if (rr >= 0 && rr < g && cc >= 0 && cc < g) out.push_back(q * kG2 + static_cast<RegionId>(rr * g + cc));
+      }
+    auto across = [&](NavSide side, int edge_index, bool row_fixed, int fixed) {
+      if (edge_index != (side == NavSide::east || side == NavSide::north ? g - 1 : 0)) return;
+      if (!maze_->open(q, side)) return;
+      const Mode q2 = maze_->neighbour(q, side);
+      const int along = row_fixed ? ci : ri;
+      for (int d = -1; d <= 1; ++d) {
+        const int a = along + d;
+        if (a < 0 || a >= g) continue;
+        const int rr = row_fixed ? fixed : a, cc = row_fixed ? a : fixed;
+        out.push_back(q2 * kG2 + static_cast<RegionId>(rr * g + cc));
+      }
+    };
+    across(NavSide::east, ci, false, 0);
+    across(NavSide::west, ci, false, g - 1);
+    across(NavSide::north, ri, true, 0);
+    across(NavSide::south, ri, true, g - 1);
+  }
+  bool is_unsafe(RegionId r) const override { return r / kG2 == unsafe_; }
+  void project(Mode, std::span<const double> x, std::span<double, 2> out) const override {
+    out[0] = x[0];
+    out[1] = x[1];
+  }
+  double cell_size() const override { return maze_->terrain_size() / (kRegionGrid * kCellsPerRegion); }
+
+ private:
+  static constexpr RegionId kG2 = static_cast<RegionId>(kRegionGrid) * kRegionGrid;
+  std::shared_ptr<const NavigationInstance> maze_;
+  Mode unsafe_;
+};
+
 class Navigation {
  public:
   static constexpr bool input_affine = true;  // a' = u0, b' = u1
 
   Navigation(std::shared_ptr<const NavigationInstance> maze, NavigationProperty property, int levels)
-      : maze_(std::move(maze)), property_(property) {
+      : maze_(std::move(maze)), property_(property), decomposition_(std::make_shared<NavigationDecomposition>(maze_, property.unsafe)) {
     for (int v = 0; v < 3; ++v) {
       const NavVehicleLimits& l = kLimits[v];
       inputs_[v] = InputSet::grid({{-l.u0_max, -l.u1_max}, {l.u0_max, l.u1_max}}, levels);
@@ -423,6 +495,7 @@ class Navigation {
     return fmt::format("{}(r{}c{} {})", q, maze_->row(q), maze_->col(q), navigation_vehicle_name(maze_->vehicle(q)));
   }
   const std::shared_ptr<const NavigationInstance>& maze() const { return maze_; }
+  const Decomposition* decomposition() const { return decomposition_.get(); }
 
  private:
   // Signed distance of (x, y) beyond side k of terrain q (> 0: across it).
@@ -440,6 +513,7 @@ class Navigation {
   std::shared_ptr<const NavigationInstance> maze_;
   NavigationProperty property_;
   std::array<double, 4> unsafe_{};  // x_lo, y_lo, x_hi, y_hi
+  std::shared_ptr<const NavigationDecomposition> decomposition_;
   InputSet inputs_[3];
 };
 

@@ -1,7 +1,9 @@
 // The method registry: a new planner is one folder under core/planners/ plus one line here.
 #include "core/planner.hpp"
 #include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
+#include "core/planners/hydice/hydice.hpp"
 #include "core/planners/rrt/rrt.hpp"
+#include "core/planners/rrt_dstar/rrt_dstar.hpp"
 
 namespace hyfal {
 
@@ -9,6 +11,9 @@ const std::vector<MethodEntry>& all_methods() {
   static const std::vector<MethodEntry> methods = {
       rrt_method(),
       enhanced_rrt_method(),
+      hydice_method(),
+      hydice_noleads_method(),
+      rrt_dstar_method(),
   };
   return methods;
 }

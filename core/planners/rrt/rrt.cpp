@@ -1,93 +1,36 @@
-// Baseline RRT (seed 000 Alg. 1-2, seed 003 Alg. 1-2):
-//   x_rand ~ uniform over the sampling box
-//   x_near = argmin_j rho(x_j, x_rand)                      (KD-tree, exact)
-//   u_new  = argmin_{u in Ū} rho(x_rand, propagate(x_near, u, δt))
-//   add x_new with the edge (u_new, x_near -> x_new); stop when s(x_new) <= 0.
-// Propagation stops early at urgent transitions (the reset is applied) and at the unsafe
-// set (localized), so a node may be reached after less than δt.
+// Baseline RRT (seed 000 Alg. 1-2, seed 003 Alg. 1-2): x_rand uniform over the sampling box,
+// the loop of rrt_loop.hpp.
 #include "core/planners/rrt/rrt.hpp"
 
-#include <limits>
 #include <random>
 
-#include "core/nearest.hpp"
-#include "core/rng.hpp"
-#include "core/tree.hpp"
+#include "core/planners/rrt/rrt_loop.hpp"
 
 namespace hyfal {
 
 namespace {
 
+// x_rand ~ uniform over the suite's sampling box.
+class UniformXRand {
+ public:
+  explicit UniformXRand(const Box& box) {
+    for (std::size_t i = 0; i < box.dim(); ++i) axes_.emplace_back(box.lo[i], box.hi[i]);
+  }
+  void sample(Rng& rng, std::span<double> x) {
+    for (std::size_t i = 0; i < axes_.size(); ++i) x[i] = axes_[i](rng);
+  }
+  void added(std::span<const double>) {}
+  void finish(PlannerOutcome&) {}
+
+ private:
+  std::vector<std::uniform_real_distribution<double>> axes_;
+};
+
 class Rrt final : public Planner {
  public:
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    const System& sys = ctx.system;
-    const SystemInfo& info = sys.info();
-    const std::size_t n = info.dim();
-    const std::span<const double> p = ctx.parameters;
-    PlannerOutcome out;
-    PlannerCounters& c = out.counters;
-
-    NodeStore tree(n, info.input_names.size());
-    const WeightedEuclidean metric(info.metric_weights);
-    NearestNeighbors nn(metric);
-    auto prop = sys.make_propagator();
-    const SearchBudget budget(ctx);
-    Rng rng(ctx.seed);
-
-    const NodeId root = tree.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
-    nn.add(root, info.initial_state);
-    c.nodes = 1;
-    auto finish_falsified = [&](NodeId leaf) {
-      out.status = TrialStatus::falsified;
-      out.trajectory = trajectory_from_tree(sys, *prop, tree, leaf, p);
-      return out;
-    };
-    if (sys.spec(info.initial_mode, info.initial_state, p) <= 0.0) return finish_falsified(root);
-
-    std::vector<std::uniform_real_distribution<double>> sample;
-    for (std::size_t i = 0; i < n; ++i) sample.emplace_back(info.sampling_box.lo[i], info.sampling_box.hi[i]);
-    std::vector<double> x_rand(n), candidate(n), x_new(n);
-
-    while (true) {
-      if (auto why = budget.exhausted(c.nodes)) {
-        out.status = *why;
-        return out;
-      }
-      for (std::size_t i = 0; i < n; ++i) x_rand[i] = sample[i](rng);
-      const NodeId near = nn.nearest(x_rand).id;
-      NodeInfo& near_info = tree.info(near);
-      ++near_info.selections;
-      const Mode q = near_info.mode;
-      const InputSet& U = sys.inputs(q);
-      const auto x_near = tree.state(near);
-
-      double best = std::numeric_limits<double>::infinity();
-      std::size_t best_j = 0;
-      PropagationResult best_r;
-      for (std::size_t j = 0; j < U.count(); ++j) {
-        const PropagationResult r = prop->propagate(q, x_near, U.input(j), p, info.step_duration, candidate);
-        ++c.propagations;
-        c.integration_steps += r.steps;
-        if (r.end == PropagationEnd::rejected) continue;
-        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
-        const double d = metric.distance(x_rand, candidate);
-        if (d < best) {
-          best = d;
-          best_j = j;
-          best_r = r;
-          x_new.swap(candidate);
-        }
-      }
-      if (best == std::numeric_limits<double>::infinity()) {  // no input made progress
-        ++tree.info(near).failed_extensions;
-        continue;
-      }
-      const NodeId id = tree.add(near, q, best_r.mode, x_new, U.input(best_j), best_r.duration, best_r.transition);
-      nn.add(id, x_new);
-      ++c.nodes;
-      if (best_r.end == PropagationEnd::unsafe || best_r.spec <= 0.0) return finish_falsified(id);
-    }
+    UniformXRand source(ctx.system.info().sampling_box);
+    return grow_rrt(ctx, source);
   }
 };
 

@@ -1,0 +1,39 @@
+// The discrete abstraction of seed 002 Sect. 3.2 (HyDICE): a decomposition of each mode's
+// continuous state space into regions D_i(q), and the search graph over them.
+//
+// Implicit, so that it scales to 10^6 modes: nothing is enumerated; a planner asks for the
+// region of a state, a region's volume, neighbours, and whether it is unsafe, and stores data
+// only for the regions it reaches.
+//  - Region ids are 64-bit and unique over all modes (a suite packs (mode, cell) into them).
+//  - neighbors(r, out): the out-edges of v_r in G_D — regions adjacent to r inside its mode and
+//    the regions REGIONTRANS says a discrete transition may reach from r. False positives are
+//    allowed (a spurious edge only costs a useless lead), false negatives are not (Sect. 3.2.2).
+//  - is_unsafe(r): D_r ∩ F ≠ ∅ (r has an edge to v_unsafe); false positives allowed as well.
+//  - project(q, x, out): proj_q(x) ∈ R^2, the projection on which the regions and the fine
+//    coverage grid (spacing cell_size()) are defined.
+//  - volume(r): vol(D_r), the area of r's projection.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/model.hpp"
+
+namespace hyfal {
+
+using RegionId = std::uint64_t;
+
+class Decomposition {
+ public:
+  virtual ~Decomposition() = default;
+  virtual RegionId region_of(Mode q, std::span<const double> x) const = 0;
+  virtual double volume(RegionId r) const = 0;
+  // Replaces the contents of `out` with the out-neighbours of r in G_D.
+  virtual void neighbors(RegionId r, std::vector<RegionId>& out) const = 0;
+  virtual bool is_unsafe(RegionId r) const = 0;
+  virtual void project(Mode q, std::span<const double> x, std::span<double, 2> out) const = 0;
+  // Side of the cells of the fine uniform coverage grid on the projection (Sect. 3.2.3).
+  virtual double cell_size() const = 0;
+};
+
+}  // namespace hyfal

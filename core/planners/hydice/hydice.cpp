@@ -1,0 +1,359 @@
+// HyDICE, seed 002 Sect. 3 (Plaku, Kavraki & Vardi): Alg. 2 with the discrete search of
+// Sect. 3.2 and the motion planner of Sect. 3.3 (Alg. 3 = Propagator::propagate).
+//
+// Needs a Decomposition from the system (System::decomposition()); throws otherwise.
+// Choices the paper leaves open (documented here, options in hydice_method()):
+//  - Time. t(D) and t_σ are measured in propagations, not seconds, so that a trial is a
+//    deterministic function of ctx.seed: t(D) = 1 + (propagations started from states in D)
+//    (the 1 keeps w finite for a region not yet extended), t_σ = `t_sigma` propagations per lead.
+//  - cov(D) = number of coverage cells (side Decomposition::cell_size() on the projection)
+//    holding at least one tree state; cells are keyed by (region, ix, iy) in a hash map.
+//  - ν = ζ = τ = 1 by default (the paper calls them normalization constants and gives no
+//    values). A region not reached yet has the default lead weight vol^ν (as cov = t = 1).
+//  - Leads: with probability `shortest_probability` (0.9, Sect. 4) the shortest path for edge cost
+//    1/(w_i w_j) (Dijkstra over the implicit graph: only regions it touches are stored); else a
+//    random path: the shortest path for i.i.d. edge costs uniform in (0, 1].
+//  - v_safe's edges go to the regions of the initial states (every initial state is a root of
+//    the one tree, so a witness may start from any of them).
+//  - Inputs: the System interface exposes no driver model, so u is drawn uniformly from the
+//    mode's discretized input set Ū_q and applied for the suite's δt (SystemInfo::step_duration).
+//  - State selection: cell ∝ 1/nsel² with nsel = selections so far + 1; then a state of the cell
+//    uniformly. A propagation that makes no progress (rejected, or zero time without a jump) adds
+//    no node but still counts toward t(D) and t_σ.
+//  - hydice-noleads (HyDICE[NoLeads] of Sect. 4): no discrete search; D_avail = every reached
+//    region, and one motion-planning step for the whole budget.
+#include "core/planners/hydice/hydice.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <random>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "core/tree.hpp"
+
+namespace hyfal {
+
+double hydice_lead_weight(const HydiceExponents& e, double vol, double cov, double t) {
+  return std::pow(vol, e.nu) * std::pow(cov, e.zeta) / std::pow(t, e.tau);
+}
+
+double hydice_selection_weight(const HydiceExponents& e, double vol, double cov, double t) {
+  return std::pow(vol, e.nu) / (std::pow(t, e.tau) * std::pow(cov, e.zeta));
+}
+
+std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
+                                  const std::function<double(RegionId)>& weight, Rng* rng,
+                                  std::size_t max_expanded) {
+  struct Entry {
+    double dist;
+    RegionId parent;
+    bool done;
+  };
+  constexpr RegionId kNone = std::numeric_limits<RegionId>::max();
+  std::unordered_map<RegionId, Entry> seen;
+  std::unordered_map<RegionId, double> w_cache;
+  auto w_of = [&](RegionId r) {
+    auto it = w_cache.find(r);
+    if (it != w_cache.end()) return it->second;
+    const double w = weight(r);
+    w_cache.emplace(r, w);
+    return w;
+  };
+  using Item = std::pair<double, RegionId>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  for (RegionId s : starts)
+    if (seen.emplace(s, Entry{0.0, kNone, false}).second) open.emplace(0.0, s);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<RegionId> nb;
+  std::size_t expanded = 0;
+  while (!open.empty()) {
+    const auto [dist, r] = open.top();
+    open.pop();
+    Entry& e = seen.at(r);
+    if (e.done || dist > e.dist) continue;
+    e.done = true;
+    if (d.is_unsafe(r)) {  // the edge to v_unsafe costs nothing
+      std::vector<RegionId> lead;
+      for (RegionId x = r; x != kNone; x = seen.at(x).parent) lead.push_back(x);
+      std::reverse(lead.begin(), lead.end());
+      return lead;
+    }
+    if (++expanded > max_expanded) break;
+    d.neighbors(r, nb);
+    const double wr = rng ? 0.0 : w_of(r);
+    for (RegionId s : nb) {
+      const double cost = rng ? 1.0 - unit(*rng) : 1.0 / (wr * w_of(s));
+      const double nd = dist + cost;
+      auto [it, inserted] = seen.try_emplace(s, Entry{nd, r, false});
+      if (!inserted) {
+        if (it->second.done || !(nd < it->second.dist)) continue;
+        it->second.dist = nd;
+        it->second.parent = r;
+      }
+      open.emplace(nd, s);
+    }
+  }
+  return {};
+}
+
+std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
+                                       const std::function<bool(RegionId)>& reached, Rng& rng) {
+  std::vector<RegionId> avail;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (std::size_t i = lead.size(); i-- > 0;) {
+    if (!reached(lead[i])) continue;
+    if (std::find(avail.begin(), avail.end(), lead[i]) != avail.end()) continue;
+    if (unit(rng) * static_cast<double>(1 + avail.size()) < 1.0) avail.push_back(lead[i]);
+  }
+  return avail;
+}
+
+std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng) {
+  double total = 0.0;
+  for (double x : w) total += x;
+  double r = std::uniform_real_distribution<double>(0.0, total)(rng);
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (r < w[i]) return i;
+    r -= w[i];
+  }
+  for (std::size_t i = w.size(); i-- > 0;)  // rounding: the last positive weight
+    if (w[i] > 0.0) return i;
+  return 0;
+}
+
+std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng) {
+  std::vector<double> w(selections.size());
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const double n = 1.0 + selections[i];
+    w[i] = 1.0 / (n * n);
+  }
+  return hydice_pick_weighted(w, rng);
+}
+
+namespace {
+
+struct HydiceOptions {
+  bool leads = true;
+  std::int64_t t_sigma = 100;
+  double shortest_probability = 0.9;
+  HydiceExponents e;
+};
+
+HydiceOptions parse_options(const Json& o, bool leads) {
+  HydiceOptions h;
+  h.leads = leads;
+  h.e.nu = o.at("nu").get<double>();
+  h.e.zeta = o.at("zeta").get<double>();
+  h.e.tau = o.at("tau").get<double>();
+  if (leads) {
+    h.t_sigma = o.at("t_sigma").get<std::int64_t>();
+    h.shortest_probability = o.at("shortest_probability").get<double>();
+    if (h.t_sigma < 1) throw std::invalid_argument("hydice: t_sigma must be >= 1");
+    if (!(h.shortest_probability >= 0.0 && h.shortest_probability <= 1.0))
+      throw std::invalid_argument("hydice: shortest_probability must be in [0, 1]");
+  }
+  return h;
+}
+
+struct CellKey {
+  RegionId region;
+  std::int64_t ix, iy;
+  bool operator==(const CellKey&) const = default;
+};
+struct CellKeyHash {
+  std::size_t operator()(const CellKey& k) const {
+    return static_cast<std::size_t>(splitmix64(k.region ^ splitmix64(static_cast<std::uint64_t>(k.ix) ^
+                                                                     splitmix64(static_cast<std::uint64_t>(k.iy)))));
+  }
+};
+
+struct Cell {
+  std::vector<NodeId> nodes;
+  std::uint32_t selections = 0;
+};
+
+struct RegionData {
+  double volume = 0.0;
+  std::int64_t propagations = 0;  // t(D) - 1
+  std::vector<std::uint32_t> cells;  // indices into the cell table
+  bool available = false;
+};
+
+class Hydice final : public Planner {
+ public:
+  explicit Hydice(HydiceOptions o) : o_(o) {}
+
+  PlannerOutcome solve(const PlannerContext& ctx) override {
+    const System& sys = ctx.system;
+    const SystemInfo& info = sys.info();
+    const Decomposition* dec = sys.decomposition();
+    if (!dec) throw std::invalid_argument(fmt::format("hydice: suite {} provides no decomposition", info.suite));
+    const std::size_t n = info.dim(), m = info.input_names.size();
+    const std::span<const double> p = ctx.parameters;
+    PlannerOutcome out;
+    PlannerCounters& c = out.counters;
+    auto prop = sys.make_propagator();
+    const SearchBudget budget(ctx);
+    Rng rng(ctx.seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double cell = dec->cell_size();
+
+    NodeStore tree(n, m);
+    std::unordered_map<RegionId, RegionData> regions;
+    std::unordered_map<CellKey, std::uint32_t, CellKeyHash> cell_index;
+    std::vector<Cell> cells;
+    std::vector<RegionId> avail;  // D_avail
+    std::vector<double> wsel;
+    std::int64_t leads = 0, random_leads = 0, failed_leads = 0;
+
+    auto add_node = [&](NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
+                        std::span<const double> u, double duration, int transition) {
+      const NodeId id = tree.add(parent, edge_mode, mode, x, u, duration, transition);
+      ++c.nodes;
+      const RegionId r = dec->region_of(mode, x);
+      auto [rit, fresh] = regions.try_emplace(r);
+      RegionData& rd = rit->second;
+      if (fresh) rd.volume = dec->volume(r);
+      double pr[2];
+      dec->project(mode, x, std::span<double, 2>(pr, 2));
+      const CellKey key{r, static_cast<std::int64_t>(std::floor(pr[0] / cell)),
+                        static_cast<std::int64_t>(std::floor(pr[1] / cell))};
+      auto [cit, new_cell] = cell_index.try_emplace(key, static_cast<std::uint32_t>(cells.size()));
+      if (new_cell) {
+        cells.emplace_back();
+        rd.cells.push_back(cit->second);
+      }
+      cells[cit->second].nodes.push_back(id);
+      if (!rd.available) {  // a newly reached region joins D_avail (Sect. 3.3.1)
+        rd.available = true;
+        avail.push_back(r);
+      }
+      return id;
+    };
+    auto finish = [&](NodeId leaf) {
+      out.status = TrialStatus::falsified;
+      out.trajectory = trajectory_from_tree(sys, *prop, tree, leaf, p);
+    };
+
+    std::vector<std::vector<double>> starts{info.initial_state};
+    for (const auto& x0 : info.other_initial_states) starts.push_back(x0);
+    std::vector<RegionId> start_regions;
+    for (const auto& x0 : starts) {
+      const NodeId id = add_node(kNoNode, info.initial_mode, info.initial_mode, x0, {}, 0.0, -1);
+      start_regions.push_back(dec->region_of(info.initial_mode, x0));
+      if (!out.trajectory && sys.spec(info.initial_mode, x0, p) <= 0.0) finish(id);
+    }
+
+    auto lead_weight = [&](RegionId r) {
+      auto it = regions.find(r);
+      if (it == regions.end()) return std::pow(dec->volume(r), o_.e.nu);  // not reached: cov = t = 1
+      const RegionData& rd = it->second;
+      return hydice_lead_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
+                                1.0 + static_cast<double>(rd.propagations));
+    };
+    auto reached = [&](RegionId r) { return regions.count(r) != 0; };
+
+    std::vector<double> x_new(n), cell_w;
+    std::vector<std::uint32_t> cell_sel;
+    while (!out.trajectory) {
+      if (auto why = budget.exhausted(c.nodes)) {
+        out.status = *why;
+        break;
+      }
+      // Alg. 2:6 — the lead and D_avail.
+      std::int64_t steps = std::numeric_limits<std::int64_t>::max();
+      if (o_.leads) {
+        ++leads;
+        std::vector<RegionId> lead;
+        if (unit(rng) < o_.shortest_probability) {
+          lead = hydice_lead(*dec, start_regions, lead_weight, nullptr);
+        } else {
+          ++random_leads;
+          lead = hydice_lead(*dec, start_regions, {}, &rng);
+        }
+        if (lead.empty()) {
+          ++failed_leads;
+          if (failed_leads == 1 && leads == 1) {  // no unsafe region reachable in G_D at all
+            out.status = TrialStatus::not_found;
+            break;
+          }
+          lead = start_regions;
+        }
+        for (RegionId r : avail) regions.at(r).available = false;
+        avail = hydice_available(lead, reached, rng);
+        for (RegionId r : avail) regions.at(r).available = true;
+        steps = o_.t_sigma;
+      }
+      // Alg. 2:8-14 — the motion-planning step.
+      for (std::int64_t k = 0; k < steps && !out.trajectory; ++k) {
+        if (k > 0 && k % 16 == 0 && budget.exhausted(c.nodes)) break;
+        wsel.resize(avail.size());
+        for (std::size_t i = 0; i < avail.size(); ++i) {
+          const RegionData& rd = regions.at(avail[i]);
+          wsel[i] = hydice_selection_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
+                                            1.0 + static_cast<double>(rd.propagations));
+        }
+        RegionData& rd = regions.at(avail[hydice_pick_weighted(wsel, rng)]);
+        cell_sel.resize(rd.cells.size());
+        for (std::size_t i = 0; i < rd.cells.size(); ++i) cell_sel[i] = cells[rd.cells[i]].selections;
+        Cell& cl = cells[rd.cells[hydice_pick_cell(cell_sel, rng)]];
+        ++cl.selections;
+        const NodeId s = cl.nodes[std::uniform_int_distribution<std::size_t>(0, cl.nodes.size() - 1)(rng)];
+        ++rd.propagations;
+        // PropagateForward (Alg. 3).
+        const Mode q = tree.info(s).mode;
+        const InputSet& U = sys.inputs(q);
+        const auto u = U.input(std::uniform_int_distribution<std::size_t>(0, U.count() - 1)(rng));
+        const PropagationResult r = prop->propagate(q, tree.state(s), u, p, info.step_duration, x_new);
+        ++c.propagations;
+        c.integration_steps += r.steps;
+        if (r.end == PropagationEnd::rejected) continue;
+        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
+        const NodeId id = add_node(s, q, r.mode, x_new, u, r.duration, r.transition);
+        if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) finish(id);
+        if (c.nodes >= ctx.limits.max_nodes) break;
+      }
+    }
+    out.metrics["regions_reached"] = regions.size();
+    out.metrics["coverage_cells"] = cells.size();
+    if (o_.leads) {
+      out.metrics["leads"] = leads;
+      out.metrics["random_leads"] = random_leads;
+      out.metrics["failed_leads"] = failed_leads;
+    }
+    return out;
+  }
+
+ private:
+  HydiceOptions o_;
+};
+
+std::vector<OptionSpec> exponent_options() {
+  return {{"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
+          {"zeta", 1.0, "ζ: exponent of cov (coverage cells of the region)"},
+          {"tau", 1.0, "τ: exponent of t (1 + propagations from the region)"}};
+}
+
+}  // namespace
+
+MethodEntry hydice_method() {
+  auto options = exponent_options();
+  options.push_back({"t_sigma", 100, "t_σ: propagations per lead (motion-planning step)"});
+  options.push_back({"shortest_probability", 0.9, "probability that a lead is the shortest path (else a random path)"});
+  return {"hydice",
+          "HyDICE of seed 002 (Alg. 2): leads over the suite's region decomposition guide the motion planner",
+          std::move(options), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, true)); }};
+}
+
+MethodEntry hydice_noleads_method() {
+  return {"hydice-noleads",
+          "HyDICE[NoLeads] of seed 002 Sect. 4: HyDICE's motion planner over every reached region, no discrete search",
+          exponent_options(), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, false)); }};
+}
+
+}  // namespace hyfal

@@ -1,0 +1,50 @@
+// HyDICE (seed 002 Sect. 3, Alg. 1-3): discrete search over a region decomposition
+// (core/decomposition.hpp) computes leads that guide a sampling-based motion planner.
+// The pieces below are exposed for the tests.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "core/decomposition.hpp"
+#include "core/planner.hpp"
+#include "core/rng.hpp"
+
+namespace hyfal {
+
+// Normalization exponents of the region weights (Sect. 3.2.3, 3.3.1).
+struct HydiceExponents {
+  double nu = 1.0, zeta = 1.0, tau = 1.0;
+};
+
+// w_i(q) = vol^ν cov^ζ / t^τ (lead weight, Sect. 3.2.3).
+double hydice_lead_weight(const HydiceExponents& e, double vol, double cov, double t);
+// w_sel(D_i(q)) = vol^ν / (t^τ cov^ζ) (region selection, Sect. 3.3.1).
+double hydice_selection_weight(const HydiceExponents& e, double vol, double cov, double t);
+
+// A lead: the regions of a path v_safe -> ... -> v_unsafe in G_D (v_safe's edges go to
+// `starts`, v_unsafe's come from every is_unsafe region), start region first. With `weight`
+// it is the shortest path for edge cost 1/(w(a) w(b)) (Dijkstra over the implicit graph);
+// with `rng` instead (weight empty) every edge gets an independent cost uniform in (0, 1], a
+// random path (Sect. 3.2.3). Empty when no unsafe region is reachable or `max_expanded`
+// regions were expanded without reaching one.
+std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
+                                  const std::function<double(RegionId)>& weight, Rng* rng,
+                                  std::size_t max_expanded = 50'000'000);
+
+// D_avail for a lead (Sect. 3.3.1): scanning the lead backwards, each reached region joins
+// with probability 1 / (1 + |D_avail|).
+std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
+                                       const std::function<bool(RegionId)>& reached, Rng& rng);
+
+// Index i drawn with probability proportional to w[i] (w >= 0, some > 0).
+std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng);
+// Coverage cell i drawn with probability ∝ 1 / nsel_i^2 (Sect. 3.3.2); nsel counts the
+// selections so far plus one, so that never-selected cells have a finite weight.
+std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng);
+
+MethodEntry hydice_method();
+MethodEntry hydice_noleads_method();
+
+}  // namespace hyfal

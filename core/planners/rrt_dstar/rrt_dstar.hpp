@@ -1,0 +1,10 @@
+#pragma once
+#include "core/planner.hpp"
+
+namespace hyfal {
+
+// RRT[D*] (Dang & Nahhal's star-discrepancy-guided RRT; a baseline of seed 002): the baseline
+// RRT whose x_rand favours the under-covered cells of the sampling box (core/samplers/star_discrepancy.hpp).
+MethodEntry rrt_dstar_method();
+
+}  // namespace hyfal
