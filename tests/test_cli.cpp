@@ -105,6 +105,12 @@ std::ostream& operator<<(std::ostream& os, const Result& r) {
 // Runs hyfal with args in cwd; stdout and stderr go to files under io_dir (never under cwd, so
 // that cwd can be checked for files hyfal created). A memory cap and a wall-clock cap keep a
 // misbehaving binary from taking the machine down with it (exit 137 when the cap is hit).
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr const char* kMemoryCap = "";  // sanitizers reserve terabytes of shadow address space
+#else
+constexpr const char* kMemoryCap = "ulimit -v 8388608 && ";
+#endif
+
 Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120) {
   static std::atomic<int> counter{0};
   fs::create_directories(io_dir);
@@ -113,7 +119,9 @@ Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, 
   const fs::path err = io_dir / ("cmd" + std::to_string(n) + ".err");
   std::string cmd = "cd ";
   cmd += quote(cwd.string());
-  cmd += " && ulimit -v 8388608 && exec timeout -s KILL ";
+  cmd += " && ";
+  cmd += kMemoryCap;
+  cmd += "exec timeout -s KILL ";
   cmd += std::to_string(time_cap_s);
   cmd += ' ';
   cmd += quote(HYFAL_BIN);
