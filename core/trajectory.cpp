@@ -37,6 +37,19 @@ std::vector<double> numbers(const Json& j, const char* key, const std::string& w
 
 }  // namespace
 
+Witness make_witness(const System& system, std::string method, std::int64_t trial_seed, Trajectory trajectory) {
+  const SystemInfo& info = system.info();
+  Witness w;
+  w.suite = info.suite;
+  w.instance = info.instance;
+  w.method = std::move(method);
+  w.trial_seed = trial_seed;
+  w.state_names = info.state_names;
+  w.input_names = info.input_names;
+  w.trajectory = std::move(trajectory);
+  return w;
+}
+
 Json to_json(const Witness& w) {
   const Trajectory& t = w.trajectory;
   Json pieces = Json::array();

@@ -41,6 +41,9 @@ struct Witness {
   Trajectory trajectory;
 };
 
+// The witness of a trajectory of `system`, with the names and instance the system declares.
+Witness make_witness(const System& system, std::string method, std::int64_t trial_seed, Trajectory trajectory);
+
 class WitnessError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };

@@ -92,14 +92,7 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
     for (auto& s : out.series) rec.series.emplace_back(std::move(s.name), std::move(s.points));
     if (out.status == TrialStatus::falsified) {
       if (!out.trajectory) throw std::logic_error("the planner reported falsified without a trajectory");
-      Witness w;
-      w.suite = job.key.suite;
-      w.instance = info.instance;
-      w.method = job.key.method;
-      w.trial_seed = job.seed;
-      w.state_names = info.state_names;
-      w.input_names = info.input_names;
-      w.trajectory = std::move(*out.trajectory);
+      const Witness w = make_witness(*job.system, job.key.method, job.seed, std::move(*out.trajectory));
       const ValidationReport report = validate_witness(*job.system, w);
       rec.validated = report.valid;
       if (!options.witness_dir.empty()) {

@@ -194,15 +194,7 @@ TEST(EnhancedRrt, WithEveryOptionOffItIsTheBaselineRrt) {
   }
 }
 
-Witness witness_of(const System& sys, Trajectory t) {
-  Witness w;
-  w.suite = sys.info().suite;
-  w.instance = sys.info().instance;
-  w.state_names = sys.info().state_names;
-  w.input_names = sys.info().input_names;
-  w.trajectory = std::move(t);
-  return w;
-}
+Witness witness_of(const System& sys, Trajectory t) { return make_witness(sys, "rrt", 0, std::move(t)); }
 
 TEST(EnhancedRrt, EveryVariantFalsifiesTheThermostatWithAValidWitness) {
   auto sys = thermostat();

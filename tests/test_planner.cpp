@@ -19,16 +19,7 @@ std::shared_ptr<const System> thermostat() {
   return s->make(resolve_options(s->parameters, {}));
 }
 
-Witness witness_of(const System& sys, Trajectory t) {
-  Witness w;
-  w.suite = sys.info().suite;
-  w.instance = sys.info().instance;
-  w.method = "rrt";
-  w.state_names = sys.info().state_names;
-  w.input_names = sys.info().input_names;
-  w.trajectory = std::move(t);
-  return w;
-}
+Witness witness_of(const System& sys, Trajectory t) { return make_witness(sys, "rrt", 0, std::move(t)); }
 
 PlannerOutcome solve_thermostat(std::uint64_t seed) {
   auto sys = thermostat();

@@ -39,16 +39,7 @@ PlannerOutcome run_rrt(const System& sys, std::uint64_t seed, double timeout, st
   return planner->solve(ctx);
 }
 
-Witness witness_of(const System& sys, Trajectory t) {
-  Witness w;
-  w.suite = sys.info().suite;
-  w.instance = sys.info().instance;
-  w.method = "rrt";
-  w.state_names = sys.info().state_names;
-  w.input_names = sys.info().input_names;
-  w.trajectory = std::move(t);
-  return w;
-}
+Witness witness_of(const System& sys, Trajectory t) { return make_witness(sys, "rrt", 0, std::move(t)); }
 
 // --- example31 -------------------------------------------------------------------------------
 
