@@ -12,8 +12,12 @@
 //  - project(q, x, out): proj_q(x) ∈ R^2, the projection on which the regions and the fine
 //    coverage grid (spacing cell_size()) are defined.
 //  - volume(r): vol(D_r), the area of r's projection.
+//  - centre(r), hops_to_unsafe(r): optional, for steering the propagation toward the next
+//    region of a lead and for the A* heuristic of the lead search.
 #pragma once
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -34,6 +38,13 @@ class Decomposition {
   virtual void project(Mode q, std::span<const double> x, std::span<double, 2> out) const = 0;
   // Side of the cells of the fine uniform coverage grid on the projection (Sect. 3.2.3).
   virtual double cell_size() const = 0;
+  // A point of r's projection to steer toward (its centre, say); NaN when the suite has none.
+  virtual std::array<double, 2> centre(RegionId) const {
+    return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  }
+  // A lower bound on the number of G_D edges from r to an unsafe region (0 = none known):
+  // the A* heuristic of the lead search. Must not overestimate.
+  virtual double hops_to_unsafe(RegionId) const { return 0.0; }
 };
 
 }  // namespace hyfal

@@ -16,6 +16,7 @@
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event.
 #pragma once
+#include <algorithm>
 #include <concepts>
 #include <cstdint>
 #include <memory>
@@ -168,6 +169,17 @@ class System {
   // closed form, seed 000 Sect. III-A). A model declares it with `static constexpr bool
   // input_affine = true;`.
   virtual bool input_affine(Mode q) const { return false; }
+  // State-dependent admissible inputs — a driver model (seed 002 Sect. 4.1.2): at state x in
+  // mode q only the box [lo, hi] ⊆ U_q may be applied. When false (the default) U_q applies at
+  // every state. Methods draw u from input_bounds (HyDICE) or map Ū_q onto it (InputGrid,
+  // core/inputs.hpp); the witness validator checks every piece's u against it.
+  virtual bool state_dependent_inputs() const { return false; }
+  virtual void input_bounds(Mode q, std::span<const double> x, std::span<double> lo,
+                            std::span<double> hi) const {
+    const Box& b = inputs(q).box;
+    std::copy(b.lo.begin(), b.lo.end(), lo.begin());
+    std::copy(b.hi.begin(), b.hi.end(), hi.begin());
+  }
   virtual int guard_count(Mode q) const = 0;
   virtual double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const = 0;
   virtual Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const = 0;

@@ -39,6 +39,19 @@ class ModelSystem final : public System {
     else
       return false;
   }
+  bool state_dependent_inputs() const override {
+    if constexpr (requires { model_.state_dependent_inputs(); })
+      return model_.state_dependent_inputs();
+    else
+      return false;
+  }
+  void input_bounds(Mode q, std::span<const double> x, std::span<double> lo,
+                    std::span<double> hi) const override {
+    if constexpr (requires { model_.input_bounds(q, x.data(), lo.data(), hi.data()); })
+      model_.input_bounds(q, x.data(), lo.data(), hi.data());
+    else
+      System::input_bounds(q, x, lo, hi);
+  }
   int guard_count(Mode q) const override { return model_.guard_count(q); }
   double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const override {
     return model_.guard(q, k, x.data(), p.data());

@@ -204,6 +204,16 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
     for (std::size_t k = 0; k < U.dim(); ++k)
       if (piece.u[k] < U.box.lo[k] - tol || piece.u[k] > U.box.hi[k] + tol)
         return fail(fmt::format("piece {}: input {} = {} is outside U", i, k, piece.u[k]));
+    if (system.state_dependent_inputs()) {  // a driver model: u must be admissible at x_start
+      // The recorded x_start (within tol of the re-simulation, checked above) is the state the
+      // method chose u at; a driver's bands are discontinuous, so it is the one to judge by.
+      std::vector<double> lo(U.dim()), hi(U.dim());
+      system.input_bounds(q, piece.x_start, lo, hi);
+      for (std::size_t k = 0; k < U.dim(); ++k)
+        if (piece.u[k] < lo[k] - tol || piece.u[k] > hi[k] + tol)
+          return fail(fmt::format("piece {}: input {} = {} is outside the admissible [{}, {}] at x_start", i, k,
+                                  piece.u[k], lo[k], hi[k]));
+    }
     // Flow in short sub-intervals; inside the piece the invariant must hold and no transition
     // may be enabled (they are urgent).
     const int sub = std::max(1, static_cast<int>(std::ceil(piece.duration / tight.max_step)));

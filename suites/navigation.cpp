@@ -92,6 +92,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -111,12 +112,14 @@ constexpr double kCarL = 0.8;       // SCar: distance between the axles, m
 constexpr double kWheelR = 0.2;     // SDDrive: wheel radius, m
 constexpr double kAxleL = 0.8;      // SDDrive: axle length, m
 constexpr double kHysteresis = 1e-9;  // m, see the header
+constexpr double kBoundSlack = 1.0 + 1e-9;  // relative slack on the |a|, |b| bounds
 
 constexpr NavVehicleLimits kLimits[3] = {
     {3.0, 40.0 * kDeg, 0.8, 25.0 * kDeg},         // SCar: v, φ; u0 m/s², u1 rad/s
     {3.0, 20.0 * kDeg, 0.3, 10.0 * kDeg},         // SUni: v, ω; u0 m/s², u1 rad/s²
-    {5.0 * kDeg, 5.0 * kDeg, 10.0 * kDeg, 10.0 * kDeg},  // SDDrive: ω_l, ω_r; rad/s²
+    {5.0, 5.0, 10.0, 10.0},                       // SDDrive: ω_l, ω_r rad/s; u rad/s² (see header)
 };
+constexpr NavVehicleLimits kSDDriveDegrees = {5.0 * kDeg, 5.0 * kDeg, 10.0 * kDeg, 10.0 * kDeg};
 
 // A SplitMix64 stream: platform-independent, one per purpose.
 class Stream {
@@ -152,7 +155,10 @@ NavSide side_of(int k) { return static_cast<NavSide>(k); }
 
 }  // namespace
 
-NavVehicleLimits navigation_limits(NavVehicle v) { return kLimits[static_cast<int>(v)]; }
+NavVehicleLimits navigation_limits(NavVehicle v, NavWheelUnit unit) {
+  if (v == NavVehicle::sddrive && unit == NavWheelUnit::degrees) return kSDDriveDegrees;
+  return kLimits[static_cast<int>(v)];
+}
 
 std::string_view navigation_vehicle_name(NavVehicle v) {
   switch (v) {
@@ -333,8 +339,9 @@ Interval driver_f(NavDriver d, double a, double m, double c, double L, double R)
 
 }  // namespace
 
-DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, std::span<const double> x) {
-  const NavVehicleLimits lim = navigation_limits(vehicle);
+DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, std::span<const double> x,
+                                          NavWheelUnit unit) {
+  const NavVehicleLimits lim = navigation_limits(vehicle, unit);
   Interval u0{}, u1{};
   switch (vehicle) {
     case NavVehicle::scar:
@@ -372,7 +379,24 @@ constexpr int kCellsPerRegion = 8;
 class NavigationDecomposition final : public Decomposition {
  public:
   NavigationDecomposition(std::shared_ptr<const NavigationInstance> maze, Mode unsafe)
-      : maze_(std::move(maze)), unsafe_(unsafe) {}
+      : maze_(std::move(maze)), unsafe_(unsafe), hops_(maze_->terrains(), kFar) {
+    // Breadth-first search from the unsafe terrain through open passages: hops_[q] = the
+    // fewest terrain changes from q to it, each one G_D edge (O(n^2) once; 4 MB at n = 1024).
+    std::vector<std::uint32_t> queue;
+    queue.reserve(maze_->terrains());
+    queue.push_back(static_cast<std::uint32_t>(unsafe));
+    hops_[unsafe] = 0;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const Mode q = queue[head];
+      for (int k = 0; k < 4; ++k) {
+        if (!maze_->open(q, side_of(k))) continue;
+        const Mode r = maze_->neighbour(q, side_of(k));
+        if (hops_[r] != kFar) continue;
+        hops_[r] = hops_[q] + 1;
+        queue.push_back(static_cast<std::uint32_t>(r));
+      }
+    }
+  }
   RegionId region_of(Mode q, std::span<const double> x) const override {
     const auto lo = maze_->corner(q);
     const double side = maze_->terrain_size() / kRegionGrid;
@@ -422,21 +446,34 @@ class NavigationDecomposition final : public Decomposition {
     out[1] = x[1];
   }
   double cell_size() const override { return maze_->terrain_size() / (kRegionGrid * kCellsPerRegion); }
+  std::array<double, 2> centre(RegionId r) const override {
+    const auto lo = maze_->corner(r / kG2);
+    const double side = maze_->terrain_size() / kRegionGrid;
+    const int ri = static_cast<int>(r % kG2) / kRegionGrid, ci = static_cast<int>(r % kG2) % kRegionGrid;
+    return {lo[0] + (ci + 0.5) * side, lo[1] + (ri + 0.5) * side};
+  }
+  double hops_to_unsafe(RegionId r) const override {
+    const std::uint32_t h = hops_[r / kG2];
+    return h == kFar ? std::numeric_limits<double>::infinity() : static_cast<double>(h);
+  }
 
  private:
   static constexpr RegionId kG2 = static_cast<RegionId>(kRegionGrid) * kRegionGrid;
+  static constexpr std::uint32_t kFar = std::numeric_limits<std::uint32_t>::max();
   std::shared_ptr<const NavigationInstance> maze_;
   Mode unsafe_;
+  std::vector<std::uint32_t> hops_;  // terrain hops to the unsafe terrain (kFar: unreachable)
 };
 
 class Navigation {
  public:
   static constexpr bool input_affine = true;  // a' = u0, b' = u1
 
-  Navigation(std::shared_ptr<const NavigationInstance> maze, NavigationProperty property, int levels)
-      : maze_(std::move(maze)), property_(property), decomposition_(std::make_shared<NavigationDecomposition>(maze_, property.unsafe)) {
+  Navigation(std::shared_ptr<const NavigationInstance> maze, NavigationProperty property, NavDriver driver,
+             NavWheelUnit unit, int levels)
+      : maze_(std::move(maze)), property_(property), driver_(driver), unit_(unit), decomposition_(std::make_shared<NavigationDecomposition>(maze_, property.unsafe)) {
     for (int v = 0; v < 3; ++v) {
-      const NavVehicleLimits& l = kLimits[v];
+      const NavVehicleLimits l = limits_[v] = navigation_limits(static_cast<NavVehicle>(v), unit);
       inputs_[v] = InputSet::grid({{-l.u0_max, -l.u1_max}, {l.u0_max, l.u1_max}}, levels);
     }
     const auto lo = maze_->corner(property.unsafe);
@@ -478,8 +515,10 @@ class Navigation {
     return maze_->neighbour(q, side_of(k));
   }
   bool invariant(Mode q, const double* x, const double*) const {
-    const NavVehicleLimits& l = kLimits[static_cast<int>(maze_->vehicle(q))];
-    if (!(std::abs(x[3]) <= l.a_max && std::abs(x[4]) <= l.b_max)) return false;
+    const NavVehicleLimits& l = limits_[static_cast<int>(maze_->vehicle(q))];
+    // kBoundSlack: a bound is often met exactly (constant inputs from a grid, exact RK4 on the
+    // linear a, b), where the rounding of two integrations (tree vs. validator) would decide.
+    if (!(std::abs(x[3]) <= l.a_max * kBoundSlack && std::abs(x[4]) <= l.b_max * kBoundSlack)) return false;
     for (int k = 0; k < 4; ++k)
       if (!(beyond(q, k, x) < 0.0) && !maze_->open(q, side_of(k))) return false;
     return true;
@@ -491,6 +530,16 @@ class Navigation {
     return -std::min({x[0] - unsafe_[0], unsafe_[2] - x[0], x[1] - unsafe_[1], unsafe_[3] - x[1]});
   }
   const InputSet& inputs(Mode q) const { return inputs_[static_cast<int>(maze_->vehicle(q))]; }
+  // The driver (seed 002 Sect. 4.1.2): u is drawn from a state-dependent interval. RandomDriver's
+  // interval is U itself.
+  bool state_dependent_inputs() const { return driver_ != NavDriver::random; }
+  void input_bounds(Mode q, const double* x, double* lo, double* hi) const {
+    const DriverInterval d = navigation_driver_interval(driver_, maze_->vehicle(q), std::span<const double>(x, 5), unit_);
+    lo[0] = d.lo[0];
+    lo[1] = d.lo[1];
+    hi[0] = d.hi[0];
+    hi[1] = d.hi[1];
+  }
   std::string mode_name(Mode q) const {
     return fmt::format("{}(r{}c{} {})", q, maze_->row(q), maze_->col(q), navigation_vehicle_name(maze_->vehicle(q)));
   }
@@ -512,6 +561,9 @@ class Navigation {
 
   std::shared_ptr<const NavigationInstance> maze_;
   NavigationProperty property_;
+  NavDriver driver_;
+  NavWheelUnit unit_;
+  NavVehicleLimits limits_[3];
   std::array<double, 4> unsafe_{};  // x_lo, y_lo, x_hi, y_hi
   std::shared_ptr<const NavigationDecomposition> decomposition_;
   InputSet inputs_[3];
@@ -526,6 +578,7 @@ struct Parsed {
   int property = 0;
   double terrain_size = 1.0, step = 1.0, integration_step = 0.01;
   int levels = 3;
+  NavWheelUnit wheel_unit = NavWheelUnit::radians;
 };
 
 Parsed parse(const Json& instance) {
@@ -538,6 +591,11 @@ Parsed parse(const Json& instance) {
   p.step = instance.at("step").get<double>();
   p.integration_step = instance.at("integration_step").get<double>();
   p.levels = instance.at("input_levels").get<int>();
+  const std::string unit = instance.at("sddrive_wheel_unit").get<std::string>();
+  if (unit == "deg")
+    p.wheel_unit = NavWheelUnit::degrees;
+  else if (unit != "rad")
+    throw std::invalid_argument(fmt::format("navigation: sddrive_wheel_unit must be rad or deg, not '{}'", unit));
   if (p.n < 2 || p.n > 4096) throw std::invalid_argument("navigation: n must be in [2, 4096]");
   if (p.property < 0 || p.property >= NavigationInstance::kProperties)
     throw std::invalid_argument("navigation: property must be in [0, 39]");
@@ -577,7 +635,7 @@ std::shared_ptr<const System> make_navigation(const Json& instance) {
   info.integrator.step = p.integration_step;
   info.integrator.max_step = p.integration_step;
   info.witness_tolerance = 1e-6;
-  return std::make_shared<NavigationSystem>(Navigation(std::move(maze), prop, p.levels), std::move(info));
+  return std::make_shared<NavigationSystem>(Navigation(std::move(maze), prop, p.driver, p.wheel_unit, p.levels), std::move(info));
 }
 
 }  // namespace
@@ -603,7 +661,7 @@ Json navigation_instance_json(const Json& instance) {
   for (const auto& pr : maze.properties()) properties.push_back({pr.start, pr.unsafe});
   Json constants = Json::object();
   for (int v = 0; v < 3; ++v) {
-    const NavVehicleLimits& l = kLimits[v];
+    const NavVehicleLimits l = navigation_limits(static_cast<NavVehicle>(v), p.wheel_unit);
     constants[std::string(navigation_vehicle_name(static_cast<NavVehicle>(v)))] = {
         {"a_max", l.a_max}, {"b_max", l.b_max}, {"u0_max", l.u0_max}, {"u1_max", l.u1_max}};
   }
@@ -640,7 +698,8 @@ SuiteEntry navigation_suite() {
            {"terrain_size", 1.0, "side of one terrain, m"},
            {"step", 1.0, "duration T of one tree extension, s"},
            {"integration_step", 0.01, "RK4 step ε, s"},
-           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"}},
+           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"},
+           {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)"}},
           make_navigation,
           {},
           navigation_instance_json};

@@ -35,7 +35,9 @@ struct NavVehicleLimits {
   double a_max, b_max;    // |a| <= a_max, |b| <= b_max (part of the mode's invariant)
   double u0_max, u1_max;  // U = [-u0_max, u0_max] x [-u1_max, u1_max]
 };
-NavVehicleLimits navigation_limits(NavVehicle v);
+// How SDDrive's printed wheel limits "5°/s, 10°/s²" are read (see suites/navigation.cpp).
+enum class NavWheelUnit : std::uint8_t { radians = 0, degrees = 1 };
+NavVehicleLimits navigation_limits(NavVehicle v, NavWheelUnit unit = NavWheelUnit::radians);
 std::string_view navigation_vehicle_name(NavVehicle v);  // "SCar", "SUni", "SDDrive"
 std::string_view navigation_driver_name(NavDriver d);    // "random", "student", "highway"
 NavDriver navigation_driver_from_name(std::string_view name);  // throws std::invalid_argument
@@ -128,7 +130,8 @@ NavigationInstance navigation_kruskal_tree(int n, std::uint64_t seed, double ter
 struct DriverInterval {
   std::array<double, 2> lo{}, hi{};
 };
-DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, std::span<const double> state);
+DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, std::span<const double> state,
+                                          NavWheelUnit unit = NavWheelUnit::radians);
 
 // The instance of a navigation System (nullptr for any other System): for planners and tools
 // that need the terrain graph.

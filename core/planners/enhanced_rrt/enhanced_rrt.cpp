@@ -31,6 +31,7 @@
 #include <fmt/format.h>
 
 #include "core/coverage.hpp"
+#include "core/inputs.hpp"
 #include "core/metrics/history_weight.hpp"
 #include "core/metrics/time_to_go.hpp"
 #include "core/nearest.hpp"
@@ -123,6 +124,7 @@ class EnhancedRrt final : public Planner {
     TimeToGo t2go(sys, metric, p);
     const SearchBudget budget(ctx);
     Rng rng(ctx.seed);
+    InputGrid U(sys);  // Ū at x_near (admissible inputs of a driver model)
 
     const bool biased = o_.sampling != Sampling::uniform;
     if (biased && info.goal_point.size() != n)
@@ -213,8 +215,8 @@ class EnhancedRrt final : public Planner {
       NodeInfo& near_info = t.nodes.info(near);
       ++near_info.selections;
       const Mode q = near_info.mode;
-      const InputSet& U = sys.inputs(q);
       const auto x_near = t.nodes.state(near);
+      U.at(q, x_near);
 
       // Line 4: propagate every input of Ū, score by rho or t2go toward x_rand.
       const std::size_t nu = U.count();

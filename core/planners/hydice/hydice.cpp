@@ -25,6 +25,7 @@
 #include "core/planners/hydice/hydice.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -48,7 +49,7 @@ double hydice_selection_weight(const HydiceExponents& e, double vol, double cov,
 
 std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
                                   const std::function<double(RegionId)>& weight, Rng* rng,
-                                  std::size_t max_expanded) {
+                                  double heuristic_edge_cost, std::size_t max_expanded) {
   struct Entry {
     double dist;
     RegionId parent;
@@ -64,19 +65,26 @@ std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const Region
     w_cache.emplace(r, w);
     return w;
   };
+  // A*: the queue is ordered by dist + h, h = hops_to_unsafe * heuristic_edge_cost; a region
+  // with no path to an unsafe one (h = inf) is never queued.
+  auto h = [&](RegionId r) { return heuristic_edge_cost > 0.0 ? heuristic_edge_cost * d.hops_to_unsafe(r) : (std::isinf(d.hops_to_unsafe(r)) ? std::numeric_limits<double>::infinity() : 0.0); };
   using Item = std::pair<double, RegionId>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  for (RegionId s : starts)
-    if (seen.emplace(s, Entry{0.0, kNone, false}).second) open.emplace(0.0, s);
+  for (RegionId s : starts) {
+    const double hs = h(s);
+    if (std::isinf(hs)) continue;
+    if (seen.emplace(s, Entry{0.0, kNone, false}).second) open.emplace(hs, s);
+  }
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<RegionId> nb;
   std::size_t expanded = 0;
   while (!open.empty()) {
-    const auto [dist, r] = open.top();
+    const RegionId r = open.top().second;
     open.pop();
     Entry& e = seen.at(r);
-    if (e.done || dist > e.dist) continue;
+    if (e.done) continue;
     e.done = true;
+    const double dist = e.dist;
     if (d.is_unsafe(r)) {  // the edge to v_unsafe costs nothing
       std::vector<RegionId> lead;
       for (RegionId x = r; x != kNone; x = seen.at(x).parent) lead.push_back(x);
@@ -87,15 +95,20 @@ std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const Region
     d.neighbors(r, nb);
     const double wr = rng ? 0.0 : w_of(r);
     for (RegionId s : nb) {
+      auto it = seen.find(s);
+      if (it != seen.end() && it->second.done) continue;
+      const double hs = h(s);
+      if (std::isinf(hs)) continue;
       const double cost = rng ? 1.0 - unit(*rng) : 1.0 / (wr * w_of(s));
       const double nd = dist + cost;
-      auto [it, inserted] = seen.try_emplace(s, Entry{nd, r, false});
-      if (!inserted) {
-        if (it->second.done || !(nd < it->second.dist)) continue;
+      if (it == seen.end()) {
+        seen.emplace(s, Entry{nd, r, false});
+      } else {
+        if (!(nd < it->second.dist)) continue;
         it->second.dist = nd;
         it->second.parent = r;
       }
-      open.emplace(nd, s);
+      open.emplace(nd + hs, s);
     }
   }
   return {};
@@ -141,6 +154,8 @@ struct HydiceOptions {
   bool leads = true;
   std::int64_t t_sigma = 100;
   double shortest_probability = 0.9;
+  double lead_heuristic = 1.0;
+  std::int64_t controls = 1;
   HydiceExponents e;
 };
 
@@ -150,12 +165,16 @@ HydiceOptions parse_options(const Json& o, bool leads) {
   h.e.nu = o.at("nu").get<double>();
   h.e.zeta = o.at("zeta").get<double>();
   h.e.tau = o.at("tau").get<double>();
+  h.controls = o.at("controls").get<std::int64_t>();
+  if (h.controls < 1 || h.controls > 1024) throw std::invalid_argument("hydice: controls must be in [1, 1024]");
   if (leads) {
     h.t_sigma = o.at("t_sigma").get<std::int64_t>();
     h.shortest_probability = o.at("shortest_probability").get<double>();
     if (h.t_sigma < 1) throw std::invalid_argument("hydice: t_sigma must be >= 1");
     if (!(h.shortest_probability >= 0.0 && h.shortest_probability <= 1.0))
       throw std::invalid_argument("hydice: shortest_probability must be in [0, 1]");
+    h.lead_heuristic = o.at("lead_heuristic").get<double>();
+    if (!(h.lead_heuristic >= 0.0)) throw std::invalid_argument("hydice: lead_heuristic must be >= 0");
   }
   return h;
 }
@@ -257,8 +276,22 @@ class Hydice final : public Planner {
                                 1.0 + static_cast<double>(rd.propagations));
     };
     auto reached = [&](RegionId r) { return regions.count(r) != 0; };
+    // The cost of a G_D edge between two regions not reached yet (the start region's volume):
+    // the A* heuristic's cost per hop.
+    const double unreached_edge_cost = 1.0 / std::pow(std::pow(dec->volume(start_regions.front()), o_.e.nu), 2.0);
 
-    std::vector<double> x_new(n), cell_w;
+    std::vector<double> x_new(n), x_try(n), cell_w, ulo(m), uhi(m), u(m), u_best(m);
+    std::vector<RegionId> current_lead, nb;
+    std::unordered_map<RegionId, std::size_t> lead_position;
+    // Where to steer from region r: the region after r on the current lead; off the lead (or
+    // without leads) the centre of a random neighbour of r in G_D.
+    auto steering_target = [&](const Decomposition& d, RegionId r, Rng& g, std::vector<RegionId>& buf) {
+      auto it = lead_position.find(r);
+      if (it != lead_position.end() && it->second + 1 < current_lead.size()) return d.centre(current_lead[it->second + 1]);
+      d.neighbors(r, buf);
+      if (buf.empty()) return d.centre(r);
+      return d.centre(buf[std::uniform_int_distribution<std::size_t>(0, buf.size() - 1)(g)]);
+    };
     std::vector<std::uint32_t> cell_sel;
     while (!out.trajectory) {
       if (auto why = budget.exhausted(c.nodes)) {
@@ -271,10 +304,10 @@ class Hydice final : public Planner {
         ++leads;
         std::vector<RegionId> lead;
         if (unit(rng) < o_.shortest_probability) {
-          lead = hydice_lead(*dec, start_regions, lead_weight, nullptr);
+          lead = hydice_lead(*dec, start_regions, lead_weight, nullptr, o_.lead_heuristic * unreached_edge_cost);
         } else {
           ++random_leads;
-          lead = hydice_lead(*dec, start_regions, {}, &rng);
+          lead = hydice_lead(*dec, start_regions, {}, &rng, o_.lead_heuristic * 0.5);
         }
         if (lead.empty()) {
           ++failed_leads;
@@ -284,8 +317,11 @@ class Hydice final : public Planner {
           }
           lead = start_regions;
         }
+        lead_position.clear();
+        for (std::size_t i = 0; i < lead.size(); ++i) lead_position.emplace(lead[i], i);
+        current_lead.swap(lead);
         for (RegionId r : avail) regions.at(r).available = false;
-        avail = hydice_available(lead, reached, rng);
+        avail = hydice_available(current_lead, reached, rng);
         for (RegionId r : avail) regions.at(r).available = true;
         steps = o_.t_sigma;
       }
@@ -298,23 +334,47 @@ class Hydice final : public Planner {
           wsel[i] = hydice_selection_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
                                             1.0 + static_cast<double>(rd.propagations));
         }
-        RegionData& rd = regions.at(avail[hydice_pick_weighted(wsel, rng)]);
+        const RegionId selected = avail[hydice_pick_weighted(wsel, rng)];
+        RegionData& rd = regions.at(selected);
         cell_sel.resize(rd.cells.size());
         for (std::size_t i = 0; i < rd.cells.size(); ++i) cell_sel[i] = cells[rd.cells[i]].selections;
         Cell& cl = cells[rd.cells[hydice_pick_cell(cell_sel, rng)]];
         ++cl.selections;
         const NodeId s = cl.nodes[std::uniform_int_distribution<std::size_t>(0, cl.nodes.size() - 1)(rng)];
-        ++rd.propagations;
-        // PropagateForward (Alg. 3).
+        // PropagateForward (Alg. 3) under `controls` inputs drawn uniformly from the admissible
+        // box at x_s (the driver), keeping the end state nearest the steering target.
         const Mode q = tree.info(s).mode;
-        const InputSet& U = sys.inputs(q);
-        const auto u = U.input(std::uniform_int_distribution<std::size_t>(0, U.count() - 1)(rng));
-        const PropagationResult r = prop->propagate(q, tree.state(s), u, p, info.step_duration, x_new);
-        ++c.propagations;
-        c.integration_steps += r.steps;
-        if (r.end == PropagationEnd::rejected) continue;
-        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
-        const NodeId id = add_node(s, q, r.mode, x_new, u, r.duration, r.transition);
+        const auto x_s = tree.state(s);
+        sys.input_bounds(q, x_s, ulo, uhi);
+        std::array<double, 2> target{std::numeric_limits<double>::quiet_NaN(), 0.0};
+        if (o_.controls > 1) target = steering_target(*dec, selected, rng, nb);
+        double best = std::numeric_limits<double>::infinity();
+        PropagationResult best_r;
+        for (std::int64_t j = 0; j < o_.controls; ++j) {
+          for (std::size_t i = 0; i < m; ++i) u[i] = ulo[i] + unit(rng) * (uhi[i] - ulo[i]);
+          const PropagationResult r = prop->propagate(q, x_s, u, p, info.step_duration, x_try);
+          ++rd.propagations;
+          ++c.propagations;
+          c.integration_steps += r.steps;
+          if (r.end == PropagationEnd::rejected) continue;
+          if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
+          double score = 0.0;
+          if (!std::isnan(target[0])) {
+            double pr[2];
+            dec->project(r.mode, x_try, std::span<double, 2>(pr, 2));
+            score = std::hypot(pr[0] - target[0], pr[1] - target[1]);
+          }
+          if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) score = -1.0;  // a witness wins
+          if (score < best) {
+            best = score;
+            best_r = r;
+            x_new.swap(x_try);
+            u_best.swap(u);
+          }
+        }
+        if (best == std::numeric_limits<double>::infinity()) continue;
+        const PropagationResult& r = best_r;
+        const NodeId id = add_node(s, q, r.mode, x_new, u_best, r.duration, r.transition);
         if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) finish(id);
         if (c.nodes >= ctx.limits.max_nodes) break;
       }
@@ -334,7 +394,8 @@ class Hydice final : public Planner {
 };
 
 std::vector<OptionSpec> exponent_options() {
-  return {{"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
+  return {{"controls", 1, "inputs drawn (uniformly from the admissible box) per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)"},
+          {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
           {"zeta", 1.0, "ζ: exponent of cov (coverage cells of the region)"},
           {"tau", 1.0, "τ: exponent of t (1 + propagations from the region)"}};
 }
@@ -345,6 +406,7 @@ MethodEntry hydice_method() {
   auto options = exponent_options();
   options.push_back({"t_sigma", 100, "t_σ: propagations per lead (motion-planning step)"});
   options.push_back({"shortest_probability", 0.9, "probability that a lead is the shortest path (else a random path)"});
+  options.push_back({"lead_heuristic", 1.0, "A* weight on hops_to_unsafe x (cost of an unreached edge); 0 = Dijkstra"});
   return {"hydice",
           "HyDICE of seed 002 (Alg. 2): leads over the suite's region decomposition guide the motion planner",
           std::move(options), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, true)); }};

@@ -27,11 +27,12 @@ double hydice_selection_weight(const HydiceExponents& e, double vol, double cov,
 // `starts`, v_unsafe's come from every is_unsafe region), start region first. With `weight`
 // it is the shortest path for edge cost 1/(w(a) w(b)) (Dijkstra over the implicit graph);
 // with `rng` instead (weight empty) every edge gets an independent cost uniform in (0, 1], a
-// random path (Sect. 3.2.3). Empty when no unsafe region is reachable or `max_expanded`
-// regions were expanded without reaching one.
+// random path (Sect. 3.2.3). A* with h(r) = heuristic_edge_cost * d.hops_to_unsafe(r) (0: plain
+// Dijkstra); regions with no path to an unsafe one (hops = inf) are pruned. Empty when no unsafe
+// region is reachable or `max_expanded` regions were expanded without reaching one.
 std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
                                   const std::function<double(RegionId)>& weight, Rng* rng,
-                                  std::size_t max_expanded = 50'000'000);
+                                  double heuristic_edge_cost = 0.0, std::size_t max_expanded = 50'000'000);
 
 // D_avail for a lead (Sect. 3.3.1): scanning the lead backwards, each reached region joins
 // with probability 1 / (1 + |D_avail|).

@@ -1,7 +1,7 @@
 // The RRT of seed 000 Alg. 1-2 / seed 003 Alg. 1-2 with the source of x_rand left open, so that
 // RRT variants that differ only in sampling (uniform RRT, RRT[D*]) share one loop:
 //   x_rand ~ source;  x_near = argmin_j rho(x_j, x_rand) (KD-tree, exact);
-//   u_new = argmin_{u in Ū} rho(x_rand, propagate(x_near, u, δt)); add x_new; stop at s <= 0.
+//   u_new = argmin_{u in Ū(x_near)} rho(x_rand, propagate(x_near, u, δt)); add x_new; stop at s <= 0.
 // Propagation stops early at urgent transitions (reset applied) and at the unsafe set
 // (localized), so a node may be reached after less than δt.
 //
@@ -11,6 +11,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/inputs.hpp"
 #include "core/nearest.hpp"
 #include "core/planner.hpp"
 #include "core/rng.hpp"
@@ -33,6 +34,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source) {
   auto prop = sys.make_propagator();
   const SearchBudget budget(ctx);
   Rng rng(ctx.seed);
+  InputGrid U(sys);
 
   const NodeId root = tree.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
   nn.add(root, info.initial_state);
@@ -54,8 +56,8 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source) {
     NodeInfo& near_info = tree.info(near);
     ++near_info.selections;
     const Mode q = near_info.mode;
-    const InputSet& U = sys.inputs(q);
     const auto x_near = tree.state(near);
+    U.at(q, x_near);
 
     double best = std::numeric_limits<double>::infinity();
     std::size_t best_j = 0;
