@@ -39,79 +39,136 @@
 
 namespace hyfal {
 
+namespace {
+// x^e without std::pow for the exponents in use (the weights are evaluated per region expanded).
+double power(double x, double e) {
+  if (e == 1.0) return x;
+  if (e == 2.0) return x * x;
+  if (e == 0.5) return std::sqrt(x);
+  if (e == 0.0) return 1.0;
+  return std::pow(x, e);
+}
+}  // namespace
+
 double hydice_lead_weight(const HydiceExponents& e, double vol, double cov, double t) {
-  return std::pow(vol, e.nu) * std::pow(cov, e.zeta) / std::pow(t, e.tau);
+  return power(vol, e.nu) * power(cov, e.zeta) / power(t, e.tau);
 }
 
 double hydice_selection_weight(const HydiceExponents& e, double vol, double cov, double t) {
-  return std::pow(vol, e.nu) / (std::pow(t, e.tau) * std::pow(cov, e.zeta));
+  return power(vol, e.nu) / (power(t, e.tau) * power(cov, e.zeta));
+}
+
+std::size_t LeadSearch::slot_of(RegionId r) {
+  std::size_t mask = table_.size() - 1;
+  std::size_t i = static_cast<std::size_t>(splitmix64(r)) & mask;
+  while (true) {
+    Slot& sl = table_[i];
+    if (sl.stamp != stamp_) {  // empty in this search: claim it
+      sl.stamp = stamp_;
+      sl.region = r;
+      sl.entry = static_cast<std::uint32_t>(entries_.size());
+      entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, false});
+      if (2 * entries_.size() > table_.size()) {  // keep the load below 1/2
+        grow();
+        return entries_.size() - 1;
+      }
+      return sl.entry;
+    }
+    if (sl.region == r) return sl.entry;
+    i = (i + 1) & mask;
+  }
+}
+
+void LeadSearch::grow() {
+  std::vector<Slot> old;
+  old.swap(table_);
+  table_.assign(old.size() * 2, Slot{});
+  ++stamp_;
+  const std::size_t mask = table_.size() - 1;
+  for (std::uint32_t k = 0; k < entries_.size(); ++k) {
+    std::size_t i = static_cast<std::size_t>(splitmix64(entries_[k].region)) & mask;
+    while (table_[i].stamp == stamp_) i = (i + 1) & mask;
+    table_[i] = Slot{entries_[k].region, k, stamp_};
+  }
+}
+
+std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const RegionId> starts,
+                                       const std::function<double(RegionId)>& weight, Rng* rng,
+                                       double heuristic_edge_cost, std::size_t max_expanded) {
+  if (table_.empty()) table_.assign(1 << 12, Slot{});
+  ++stamp_;
+  entries_.clear();
+  expanded_ = 0;
+  // A*: ordered by f = dist + h, ties to the smaller h (the deeper region), h = hops_to_unsafe
+  // * heuristic_edge_cost; a region with no path to an unsafe one (hops = inf) is never queued.
+  auto h_of = [&](RegionId r) {
+    const double hops = d.hops_to_unsafe(r);
+    if (std::isinf(hops)) return hops;
+    return heuristic_edge_cost > 0.0 ? heuristic_edge_cost * hops : 0.0;
+  };
+  using Item = OpenItem;
+  open_.clear();
+  auto push = [&](Item it) {
+    open_.push_back(it);
+    std::push_heap(open_.begin(), open_.end(), std::greater<>{});
+  };
+  for (RegionId s : starts) {
+    const double hs = h_of(s);
+    if (std::isinf(hs)) continue;
+    const std::size_t before = entries_.size();
+    const std::size_t k = slot_of(s);
+    if (entries_.size() == before) continue;  // a duplicate start
+    entries_[k].h = hs;
+    push(Item{hs, hs, static_cast<std::uint32_t>(k)});
+  }
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto w_of = [&](std::size_t k) {
+    if (std::isnan(entries_[k].w)) entries_[k].w = weight(entries_[k].region);
+    return entries_[k].w;
+  };
+  while (!open_.empty()) {
+    std::pop_heap(open_.begin(), open_.end(), std::greater<>{});
+    const std::uint32_t k = open_.back().entry;
+    open_.pop_back();
+    if (entries_[k].done) continue;
+    entries_[k].done = true;
+    const RegionId r = entries_[k].region;
+    const double dist = entries_[k].dist;
+    if (d.is_unsafe(r)) {  // the edge to v_unsafe costs nothing
+      std::vector<RegionId> lead;
+      for (std::uint32_t x = k; x != kNoParent; x = entries_[x].parent) lead.push_back(entries_[x].region);
+      std::reverse(lead.begin(), lead.end());
+      return lead;
+    }
+    if (++expanded_ > max_expanded) break;
+    d.neighbors(r, nb_);
+    const double wr = rng ? 0.0 : w_of(k);
+    for (RegionId s : nb_) {
+      const std::size_t before = entries_.size();
+      const std::size_t j = slot_of(s);
+      const bool fresh = entries_.size() != before;
+      if (fresh) {
+        entries_[j].h = h_of(s);
+      } else if (entries_[j].done) {
+        continue;
+      }
+      if (std::isinf(entries_[j].h)) continue;
+      const double cost = rng ? 1.0 - unit(*rng) : 1.0 / (wr * w_of(j));
+      const double nd = dist + cost;
+      if (!fresh && !(nd < entries_[j].dist)) continue;
+      entries_[j].dist = nd;
+      entries_[j].parent = k;
+      push(Item{nd + entries_[j].h, entries_[j].h, static_cast<std::uint32_t>(j)});
+    }
+  }
+  return {};
 }
 
 std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
                                   const std::function<double(RegionId)>& weight, Rng* rng,
                                   double heuristic_edge_cost, std::size_t max_expanded) {
-  struct Entry {
-    double dist;
-    RegionId parent;
-    bool done;
-  };
-  constexpr RegionId kNone = std::numeric_limits<RegionId>::max();
-  std::unordered_map<RegionId, Entry> seen;
-  std::unordered_map<RegionId, double> w_cache;
-  auto w_of = [&](RegionId r) {
-    auto it = w_cache.find(r);
-    if (it != w_cache.end()) return it->second;
-    const double w = weight(r);
-    w_cache.emplace(r, w);
-    return w;
-  };
-  // A*: the queue is ordered by dist + h, h = hops_to_unsafe * heuristic_edge_cost; a region
-  // with no path to an unsafe one (h = inf) is never queued.
-  auto h = [&](RegionId r) { return heuristic_edge_cost > 0.0 ? heuristic_edge_cost * d.hops_to_unsafe(r) : (std::isinf(d.hops_to_unsafe(r)) ? std::numeric_limits<double>::infinity() : 0.0); };
-  using Item = std::pair<double, RegionId>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  for (RegionId s : starts) {
-    const double hs = h(s);
-    if (std::isinf(hs)) continue;
-    if (seen.emplace(s, Entry{0.0, kNone, false}).second) open.emplace(hs, s);
-  }
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<RegionId> nb;
-  std::size_t expanded = 0;
-  while (!open.empty()) {
-    const RegionId r = open.top().second;
-    open.pop();
-    Entry& e = seen.at(r);
-    if (e.done) continue;
-    e.done = true;
-    const double dist = e.dist;
-    if (d.is_unsafe(r)) {  // the edge to v_unsafe costs nothing
-      std::vector<RegionId> lead;
-      for (RegionId x = r; x != kNone; x = seen.at(x).parent) lead.push_back(x);
-      std::reverse(lead.begin(), lead.end());
-      return lead;
-    }
-    if (++expanded > max_expanded) break;
-    d.neighbors(r, nb);
-    const double wr = rng ? 0.0 : w_of(r);
-    for (RegionId s : nb) {
-      auto it = seen.find(s);
-      if (it != seen.end() && it->second.done) continue;
-      const double hs = h(s);
-      if (std::isinf(hs)) continue;
-      const double cost = rng ? 1.0 - unit(*rng) : 1.0 / (wr * w_of(s));
-      const double nd = dist + cost;
-      if (it == seen.end()) {
-        seen.emplace(s, Entry{nd, r, false});
-      } else {
-        if (!(nd < it->second.dist)) continue;
-        it->second.dist = nd;
-        it->second.parent = r;
-      }
-      open.emplace(nd + hs, s);
-    }
-  }
-  return {};
+  LeadSearch search;
+  return search.find(d, starts, weight, rng, heuristic_edge_cost, max_expanded);
 }
 
 std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
@@ -149,6 +206,11 @@ std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng
 }
 
 namespace {
+
+// One propagation (~10-40 µs on the navigation vehicles) costs about as much as 50 region
+// expansions of the lead search (~0.3 µs each): t_σ >= expanded / 50 keeps leads <= ~50 % of
+// the time.
+constexpr std::int64_t kExpansionsPerPropagation = 50;
 
 struct HydiceOptions {
   bool leads = true;
@@ -228,7 +290,8 @@ class Hydice final : public Planner {
     std::vector<Cell> cells;
     std::vector<RegionId> avail;  // D_avail
     std::vector<double> wsel;
-    std::int64_t leads = 0, random_leads = 0, failed_leads = 0;
+    std::int64_t leads = 0, random_leads = 0, failed_leads = 0, expansions = 0, random_expansions = 0;
+    LeadSearch lead_search;
 
     auto add_node = [&](NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
                         std::span<const double> u, double duration, int transition) {
@@ -270,7 +333,7 @@ class Hydice final : public Planner {
 
     auto lead_weight = [&](RegionId r) {
       auto it = regions.find(r);
-      if (it == regions.end()) return std::pow(dec->volume(r), o_.e.nu);  // not reached: cov = t = 1
+      if (it == regions.end()) return power(dec->volume(r), o_.e.nu);  // not reached: cov = t = 1
       const RegionData& rd = it->second;
       return hydice_lead_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
                                 1.0 + static_cast<double>(rd.propagations));
@@ -304,10 +367,11 @@ class Hydice final : public Planner {
         ++leads;
         std::vector<RegionId> lead;
         if (unit(rng) < o_.shortest_probability) {
-          lead = hydice_lead(*dec, start_regions, lead_weight, nullptr, o_.lead_heuristic * unreached_edge_cost);
+          lead = lead_search.find(*dec, start_regions, lead_weight, nullptr, o_.lead_heuristic * unreached_edge_cost);
         } else {
           ++random_leads;
-          lead = hydice_lead(*dec, start_regions, {}, &rng, o_.lead_heuristic * 0.5);
+          lead = lead_search.find(*dec, start_regions, {}, &rng, o_.lead_heuristic * 1.0);
+          random_expansions += static_cast<std::int64_t>(lead_search.expanded());
         }
         if (lead.empty()) {
           ++failed_leads;
@@ -323,7 +387,10 @@ class Hydice final : public Planner {
         for (RegionId r : avail) regions.at(r).available = false;
         avail = hydice_available(current_lead, reached, rng);
         for (RegionId r : avail) regions.at(r).available = true;
-        steps = o_.t_sigma;
+        // t_σ: at least t_sigma propagations, more when the lead search was long, so that the
+        // discrete search keeps a bounded share of the time (the paper's t_σ is wall time).
+        expansions += static_cast<std::int64_t>(lead_search.expanded());
+        steps = std::max<std::int64_t>(o_.t_sigma, static_cast<std::int64_t>(lead_search.expanded()) / kExpansionsPerPropagation);
       }
       // Alg. 2:8-14 — the motion-planning step.
       for (std::int64_t k = 0; k < steps && !out.trajectory; ++k) {
@@ -385,6 +452,8 @@ class Hydice final : public Planner {
       out.metrics["leads"] = leads;
       out.metrics["random_leads"] = random_leads;
       out.metrics["failed_leads"] = failed_leads;
+      out.metrics["lead_expansions"] = expansions;
+      out.metrics["random_lead_expansions"] = random_expansions;
     }
     return out;
   }
@@ -396,8 +465,8 @@ class Hydice final : public Planner {
 std::vector<OptionSpec> exponent_options() {
   return {{"controls", 1, "inputs drawn (uniformly from the admissible box) per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)"},
           {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
-          {"zeta", 1.0, "ζ: exponent of cov (coverage cells of the region)"},
-          {"tau", 1.0, "τ: exponent of t (1 + propagations from the region)"}};
+          {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)"},
+          {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)"}};
 }
 
 }  // namespace

@@ -34,6 +34,46 @@ std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const Region
                                   const std::function<double(RegionId)>& weight, Rng* rng,
                                   double heuristic_edge_cost = 0.0, std::size_t max_expanded = 50'000'000);
 
+// The lead search with its workspace kept between leads (an open-addressing table of the
+// regions touched, reset in O(1) by a stamp; a binary heap): no allocation per lead once warm.
+class LeadSearch {
+ public:
+  // As hydice_lead.
+  std::vector<RegionId> find(const Decomposition& d, std::span<const RegionId> starts,
+                             const std::function<double(RegionId)>& weight, Rng* rng,
+                             double heuristic_edge_cost = 0.0, std::size_t max_expanded = 50'000'000);
+  std::size_t expanded() const { return expanded_; }  // regions expanded by the last find
+
+ private:
+  static constexpr std::uint32_t kNoParent = 0xffffffffu;
+  struct Entry {
+    RegionId region;
+    double dist, w, h;
+    std::uint32_t parent;
+    bool done;
+  };
+  struct Slot {
+    RegionId region = 0;
+    std::uint32_t entry = 0;
+    std::uint32_t stamp = 0;
+  };
+  struct OpenItem {  // A* queue entry: f = dist + h, ties to the smaller h (deeper)
+    double f, h;
+    std::uint32_t entry;
+    bool operator>(const OpenItem& o) const {
+      return f > o.f || (f == o.f && (h > o.h || (h == o.h && entry > o.entry)));
+    }
+  };
+  std::size_t slot_of(RegionId r);  // the entry of r, created (dist 0, no parent) when new
+  void grow();
+  std::vector<Slot> table_;
+  std::vector<Entry> entries_;
+  std::vector<OpenItem> open_;
+  std::vector<RegionId> nb_;
+  std::uint32_t stamp_ = 0;
+  std::size_t expanded_ = 0;
+};
+
 // D_avail for a lead (Sect. 3.3.1): scanning the lead backwards, each reached region joins
 // with probability 1 / (1 + |D_avail|).
 std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
