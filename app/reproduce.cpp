@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -16,6 +17,7 @@
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "results/paper_report.hpp"
+#include "results/sweep_report.hpp"
 #include "results/text_format.hpp"
 #include "suites/registry.hpp"
 
@@ -166,6 +168,120 @@ const TableProfile& profile_of(const PaperTable& table, const std::string& name)
   throw UsageError(fmt::format("--profile {}: expected smoke, quick or paper", name));
 }
 
+ReportHeader make_header(const ReproduceArgs& a, const TableProfile& profile, const EngineOptions& eo,
+                         const std::string& experiment) {
+  ReportHeader h;
+  h.profile = a.profile;
+  h.trials = profile.trials;
+  h.timeout_s = profile.timeout_s;
+  h.max_nodes = profile.max_nodes;
+  h.profile_settings = profile.settings;
+  h.seed = a.seed;
+  h.threads = a.threads > 0 ? a.threads : default_thread_count();
+  h.host = eo.host;
+  h.nproc = static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN));
+  h.cpu_model = cpu_model_name();
+  h.date_utc = utc_now();
+  h.git_commit = eo.git_commit;
+  h.experiment = experiment;
+  return h;
+}
+
+// A sweep table: one trial group per (block, row, column, instance); all jobs in one pool.
+int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const PaperTable& table,
+                    const TableProfile& profile, const std::string& experiment) {
+  const TableSweep& sw = *table.sweep;
+  if (profile.instances < 1)
+    throw UsageError(fmt::format("table '{}' profile '{}': instances must be >= 1", table.id, a.profile));
+  const std::size_t blocks = sw.blocks.empty() ? 1 : sw.blocks.size();
+  const std::size_t cols = sw.columns.size();
+  const std::size_t run = profile.columns < 0 ? cols : std::min<std::size_t>(cols, static_cast<std::size_t>(profile.columns));
+  struct Cell {
+    std::size_t b, row, col;
+    TrialGroup group;
+  };
+  std::vector<Cell> cells;
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (std::size_t r = 0; r < table.rows.size(); ++r) {
+      const PaperRow& row = table.rows[r];
+      const MethodEntry* method = find_method(row.method);
+      if (!method)
+        throw UsageError(fmt::format("table '{}' row '{}': method '{}' is not registered", table.id, row.label, row.method));
+      for (std::size_t c = 0; c < run; ++c)
+        for (int k = 0; k < profile.instances; ++k) {
+          TrialGroupSpec spec;
+          spec.experiment = experiment;
+          spec.suite = suite;
+          spec.method = method;
+          spec.settings = profile.settings;  // later settings win in resolve_options
+          if (!sw.blocks.empty())
+            spec.settings.insert(spec.settings.end(), sw.blocks[b].settings.begin(), sw.blocks[b].settings.end());
+          spec.settings.insert(spec.settings.end(), sw.columns[c].settings.begin(), sw.columns[c].settings.end());
+          if (!sw.instance_key.empty()) spec.settings.emplace_back(sw.instance_key, std::to_string(k));
+          spec.settings.insert(spec.settings.end(), row.settings.begin(), row.settings.end());
+          spec.trials = profile.trials;
+          spec.timeout_s = profile.timeout_s;
+          spec.max_nodes = profile.max_nodes;
+          spec.seed = a.seed;
+          try {
+            cells.push_back({b, r, c, resolve_trial_group(spec)});
+          } catch (const std::invalid_argument& e) {
+            throw UsageError(fmt::format("table '{}' row '{}': {}", table.id, row.label, e.what()));
+          } catch (const UsageError& e) {
+            throw UsageError(fmt::format("table '{}' row '{}': {}", table.id, row.label, e.what()));
+          }
+        }
+    }
+
+  TrialStore store = TrialStore::open(a.db);
+  // The largest columns first, so that the pool does not end waiting on one long trial.
+  std::vector<std::size_t> order(cells.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cells[x].col > cells[y].col; });
+  std::vector<TrialJob> jobs;
+  std::size_t stored_count = 0;
+  std::set<std::string> seen;
+  for (const std::size_t i : order) {
+    const TrialKey& k = cells[i].group.base;
+    if (!seen.insert(Json::array({k.suite, k.instance, k.method, k.config}).dump()).second) continue;
+    auto cell_jobs = prepare_jobs(cells[i].group, store.stored_trial_indices(k));
+    stored_count += static_cast<std::size_t>(profile.trials) - cell_jobs.size();
+    for (auto& j : cell_jobs) jobs.push_back(std::move(j));
+  }
+  const std::size_t total = seen.size() * static_cast<std::size_t>(profile.trials);
+  if (stored_count > 0)
+    fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, total, a.db);
+
+  const EngineOptions eo = make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0);
+  std::size_t errors = 0;
+  run_trials(jobs, eo, [&](const TrialRecord& r) {
+    store.insert(r);
+    if (r.status == TrialStatus::error) {
+      ++errors;
+      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
+    }
+  });
+
+  std::vector<std::vector<std::vector<std::vector<TrialRecord>>>> trials(
+      blocks, std::vector<std::vector<std::vector<TrialRecord>>>(table.rows.size(),
+                                                                 std::vector<std::vector<TrialRecord>>(cols)));
+  const auto records = store.load(experiment);
+  for (const Cell& cell : cells)
+    for (const TrialRecord& record : records)
+      if (cell.group.contains(record)) trials[cell.b][cell.row][cell.col].push_back(record);
+  SweepReport report = make_sweep_report(table, trials, static_cast<int>(run));
+  if (report.suite.empty()) report.suite = suite->name;
+  const ReportHeader header = make_header(a, profile, eo, experiment);
+  const std::string markdown = to_markdown(report, header);
+  const fs::path out_dir(a.out_dir);
+  write_file_atomic((out_dir / (table.id + ".md")).string(), markdown);
+  write_file_atomic((out_dir / (table.id + ".csv")).string(), to_csv(report, header));
+  std::cout << markdown << std::flush;
+  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, jobs.size(),
+             (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
+  return errors ? 1 : 0;
+}
+
 }  // namespace
 
 int cmd_reproduce(const ReproduceArgs& a) {
@@ -191,6 +307,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
   const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
   check_directory_creatable(a.out_dir, "--out-dir");
   check_directory_creatable(a.witness_dir, "--witness-dir");
+  if (table->sweep) return reproduce_sweep(a, suite, *table, profile, experiment);
 
   std::vector<TrialGroup> groups;
   for (const PaperRow& row : table->rows) {
@@ -252,20 +369,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
 
   PaperReport report = make_paper_report(*table, rows_trials);
   if (report.suite.empty()) report.suite = suite->name;
-  ReportHeader header;
-  header.profile = a.profile;
-  header.trials = profile.trials;
-  header.timeout_s = profile.timeout_s;
-  header.max_nodes = profile.max_nodes;
-  header.profile_settings = profile.settings;
-  header.seed = a.seed;
-  header.threads = a.threads > 0 ? a.threads : default_thread_count();
-  header.host = eo.host;
-  header.nproc = static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN));
-  header.cpu_model = cpu_model_name();
-  header.date_utc = utc_now();
-  header.git_commit = eo.git_commit;
-  header.experiment = experiment;
+  const ReportHeader header = make_header(a, profile, eo, experiment);
 
   const std::string markdown = to_markdown(report, header);
   const fs::path out_dir(a.out_dir);

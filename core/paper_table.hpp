@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,6 +40,27 @@ struct TableProfile {
   double timeout_s = 60.0;
   std::int64_t max_nodes = 1'000'000;
   Settings settings;  // applied to every row before the row's own settings
+  // Sweep tables only (PaperTable::sweep): instances per cell (values 0..instances-1 of the
+  // sweep's instance_key) and the columns to run (the first `columns`; -1 = all).
+  int instances = 1;
+  int columns = -1;
+};
+
+// A table whose columns (and blocks) are values of instance parameters — seed 002 Table 1:
+// rows are methods, columns |Q| = n², one block per driver, and each cell aggregates one trial
+// per safety property (instance_key = "property", values 0..k-1). A cell's time is the mean
+// wall time over its trials; a timed-out trial counts with the time limit (a lower bound).
+struct SweepValue {
+  std::string label;  // header, e.g. "32²" or "RandomDriver"
+  Settings settings;  // the instance settings it stands for, e.g. {{"n", "32"}}
+};
+struct TableSweep {
+  std::vector<SweepValue> columns;
+  std::vector<SweepValue> blocks;  // empty: one block
+  std::string instance_key;        // e.g. "property"; empty: one instance per cell
+  // The paper's values, [block][row][column], seconds; kPaperTimeout = the paper's "X".
+  std::vector<std::vector<std::vector<double>>> paper;
+  double paper_timeout_s = 0.0;    // the paper's time limit behind "X"
 };
 
 struct PaperTable {
@@ -53,8 +75,12 @@ struct PaperTable {
   // Per-trial series (PlannerOutcome::series names) exported to <id>-<name>.csv, e.g. the
   // sorted n_j of seed 000 Fig. 6 or coverage against nodes.
   std::vector<std::string> series = {};
+  // When set, the table is a sweep (rows x sweep columns per block) and `columns`/`paper` of
+  // the rows are not used.
+  std::optional<TableSweep> sweep = {};
 };
 
 inline constexpr double kNotReported = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kPaperTimeout = std::numeric_limits<double>::infinity();
 
 }  // namespace hyfal

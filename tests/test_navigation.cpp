@@ -229,10 +229,13 @@ TEST(NavigationDynamics, HandDerivativesInputBoxesAndBounds) {
         want = {-0.7 * std::cos(th), -0.7 * std::sin(th), 0.25, 0.05, -0.02};
         break;
       case NavVehicle::sddrive:
-        EXPECT_DOUBLE_EQ(l.a_max, 5 * kDeg);
-        EXPECT_DOUBLE_EQ(l.b_max, 5 * kDeg);
-        EXPECT_DOUBLE_EQ(l.u0_max, 10 * kDeg);
-        EXPECT_DOUBLE_EQ(l.u1_max, 10 * kDeg);
+        // Read as rad/s by default; as printed (°/s) with NavWheelUnit::degrees.
+        EXPECT_DOUBLE_EQ(l.a_max, 5);
+        EXPECT_DOUBLE_EQ(l.b_max, 5);
+        EXPECT_DOUBLE_EQ(l.u0_max, 10);
+        EXPECT_DOUBLE_EQ(l.u1_max, 10);
+        EXPECT_DOUBLE_EQ(navigation_limits(v, NavWheelUnit::degrees).a_max, 5 * kDeg);
+        EXPECT_DOUBLE_EQ(navigation_limits(v, NavWheelUnit::degrees).u1_max, 10 * kDeg);
         x[3] = 0.05, x[4] = 0.08;  // ω_l, ω_r
         want = {0.5 * 0.2 * 0.13 * std::cos(th), 0.5 * 0.2 * 0.13 * std::sin(th), 0.2 * 0.03 / 0.8, 0.05, -0.02};
         break;
@@ -374,11 +377,11 @@ TEST(NavigationDrivers, HandCases) {
   const auto iv = [](NavDriver d, NavVehicle v, double a, double b) {
     return navigation_driver_interval(d, v, std::vector<double>{0.0, 0.0, 0.0, a, b});
   };
-  const double m1c = 25 * kDeg, m1u = 10 * kDeg, mdd = 10 * kDeg, wmax = 5 * kDeg;
+  const double m1c = 25 * kDeg, m1u = 10 * kDeg, mdd = 10.0, wmax = 5.0;  // SDDrive in rad/s (default)
   auto expect_iv = [](const DriverInterval& got, std::array<double, 2> lo, std::array<double, 2> hi) {
     for (int i = 0; i < 2; ++i) {
-      EXPECT_NEAR(got.lo[i], lo[i], 1e-15) << "lo " << i;
-      EXPECT_NEAR(got.hi[i], hi[i], 1e-15) << "hi " << i;
+      EXPECT_NEAR(got.lo[i], lo[i], 1e-14) << "lo " << i;
+      EXPECT_NEAR(got.hi[i], hi[i], 1e-14) << "hi " << i;
     }
   };
   // Random: the whole box, whatever the state.

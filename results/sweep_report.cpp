@@ -1,0 +1,199 @@
+#include "results/sweep_report.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "results/statistics.hpp"
+#include "results/text_format.hpp"
+
+namespace hyfal {
+namespace {
+
+using namespace text;
+
+std::string paper_text(double v) {
+  if (std::isnan(v)) return "N/A";
+  if (std::isinf(v)) return "X";
+  return fmt::format("{}", v);
+}
+
+// Ours: the mean time; "X" when every trial was stopped (the paper's mark for a timeout), "≥"
+// when some were (a lower bound); "[k/n]" when not every trial falsified.
+std::string ours_text(const SweepCell& c) {
+  if (!c.run) return "";
+  if (c.n == 0) return std::string(kMissing);
+  std::string s;
+  if (c.all_stopped())
+    s = fmt::format("X (≥{})", format_significant(c.mean_s));
+  else
+    s = fmt::format("{}{}", c.censored() ? "≥" : "", format_significant(c.mean_s));
+  if (c.falsified < c.n) s += fmt::format(" [{}/{}]", c.falsified, c.n);
+  return s;
+}
+
+std::string separator(std::size_t text_columns, std::size_t columns) {
+  std::vector<std::string> sep;
+  for (std::size_t c = 0; c < columns; ++c) sep.emplace_back(c < text_columns ? "---" : "--:");
+  return markdown_row(sep);
+}
+
+std::string settings_text(const Settings& settings) {
+  if (settings.empty()) return std::string(kMissing);
+  std::vector<std::string> parts;
+  for (const auto& [key, value] : settings) parts.push_back(fmt::format("{}={}", key, value));
+  return fmt::format("{}", fmt::join(parts, ", "));
+}
+
+}  // namespace
+
+SweepReport make_sweep_report(const PaperTable& table,
+                              const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
+                              int columns_run) {
+  if (!table.sweep) throw std::invalid_argument("make_sweep_report: the table is not a sweep");
+  const TableSweep& sw = *table.sweep;
+  const std::size_t blocks = sw.blocks.empty() ? 1 : sw.blocks.size();
+  const std::size_t cols = sw.columns.size();
+  const std::size_t run = columns_run < 0 ? cols : std::min<std::size_t>(cols, static_cast<std::size_t>(columns_run));
+  if (trials.size() != blocks) throw std::invalid_argument("make_sweep_report: one trial set per block expected");
+  SweepReport r;
+  r.id = table.id;
+  r.title = table.title;
+  r.source = table.source;
+  r.suite = table.suite;
+  r.notes = table.notes;
+  r.paper_timeout_s = sw.paper_timeout_s;
+  for (const PaperRow& row : table.rows) {
+    r.rows.push_back(row.label);
+    r.methods.push_back(row.method);
+  }
+  for (const SweepValue& c : sw.columns) r.columns.push_back(c.label);
+  if (sw.blocks.empty())
+    r.blocks.push_back("");
+  else
+    for (const SweepValue& b : sw.blocks) r.blocks.push_back(b.label);
+  r.cells.assign(blocks, std::vector<std::vector<SweepCell>>(table.rows.size(), std::vector<SweepCell>(cols)));
+  r.orderings.assign(blocks, {});
+  for (std::size_t b = 0; b < blocks; ++b) {
+    if (trials[b].size() != table.rows.size()) throw std::invalid_argument("make_sweep_report: one trial set per row expected");
+    for (std::size_t i = 0; i < table.rows.size(); ++i) {
+      if (trials[b][i].size() != cols) throw std::invalid_argument("make_sweep_report: one trial set per column expected");
+      for (std::size_t c = 0; c < cols; ++c) {
+        SweepCell& cell = r.cells[b][i][c];
+        if (b < sw.paper.size() && i < sw.paper[b].size() && c < sw.paper[b][i].size()) cell.paper = sw.paper[b][i][c];
+        cell.run = c < run;
+        std::vector<double> times;
+        for (const TrialRecord& t : trials[b][i][c]) {
+          ++cell.n;
+          switch (t.status) {
+            case TrialStatus::falsified: ++cell.falsified; break;
+            case TrialStatus::timeout: ++cell.timeouts; break;
+            case TrialStatus::node_cap: ++cell.node_caps; break;
+            case TrialStatus::not_found: ++cell.not_found; break;
+            case TrialStatus::error: ++cell.errors; break;
+          }
+          if (t.status != TrialStatus::error) times.push_back(t.wall_s);
+        }
+        const SampleSummary s = summarize(times);
+        cell.mean_s = s.mean;
+        cell.median_s = s.median;
+      }
+    }
+    // Orderings per run column: the paper's "X" counts as its time limit, ours as the mean.
+    for (std::size_t c = 0; c < run; ++c) {
+      std::vector<double> paper, ours;
+      for (std::size_t i = 0; i < table.rows.size(); ++i) {
+        const SweepCell& cell = r.cells[b][i][c];
+        paper.push_back(std::isinf(cell.paper) ? sw.paper_timeout_s : cell.paper);
+        ours.push_back(cell.mean_s);
+      }
+      r.orderings[b].push_back(check_ordering(paper, ours, c));
+    }
+  }
+  return r;
+}
+
+std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
+  std::string md = fmt::format("# {}: {}\n\n", r.id, r.title);
+  md += fmt::format("- source: {}\n", r.source.empty() ? std::string(kMissing) : r.source);
+  md += fmt::format("- profile: {}: {} trial(s) per instance, timeout {} s, node cap {}, master seed {}; profile settings: {}\n",
+                    header.profile, header.trials, header.timeout_s, header.max_nodes, header.seed,
+                    settings_text(header.profile_settings));
+  md += fmt::format("- suite: {}; experiment: {}\n", r.suite.empty() ? std::string(kMissing) : r.suite, header.experiment);
+  md += fmt::format("- machine: {}, nproc {}, {}; {} worker threads\n", header.host, header.nproc, header.cpu_model,
+                    header.threads);
+  md += fmt::format("- date (UTC): {}\n- git commit: {}\n", header.date_utc, header.git_commit);
+  if (!r.notes.empty()) {
+    std::string notes;
+    for (const char c : r.notes) {
+      notes += c;
+      if (c == '\n') notes += "  ";
+    }
+    while (!notes.empty() && (notes.back() == ' ' || notes.back() == '\n')) notes.pop_back();
+    md += fmt::format("- notes: {}\n", notes);
+  }
+  md += fmt::format(
+      "\nCells: mean wall time in seconds over the cell's trials (one per instance). X: every trial was stopped by "
+      "the time limit or node cap (ours: ≥ the mean time they ran); ≥: some were, so the mean is a lower bound; "
+      "[k/n]: k of n trials falsified. Paper: X = timeout at {} s.\n",
+      r.paper_timeout_s);
+  std::size_t run = 0;
+  for (std::size_t c = 0; c < r.columns.size(); ++c)
+    if (!r.cells.empty() && !r.cells[0].empty() && r.cells[0][0][c].run) run = c + 1;
+  for (std::size_t b = 0; b < r.blocks.size(); ++b) {
+    if (!r.blocks[b].empty()) md += fmt::format("\n## {}\n", r.blocks[b]);
+    for (int which = 0; which < 2; ++which) {
+      md += which == 0 ? "\nours\n\n" : "\npaper\n\n";
+      std::vector<std::string> head{"method"};
+      const std::size_t shown = which == 0 ? run : r.columns.size();
+      for (std::size_t c = 0; c < shown; ++c) head.push_back(markdown_cell(r.columns[c]));
+      md += markdown_row(head);
+      md += separator(1, head.size());
+      for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        std::vector<std::string> line{markdown_cell(r.rows[i])};
+        for (std::size_t c = 0; c < shown; ++c)
+          line.push_back(which == 0 ? ours_text(r.cells[b][i][c]) : paper_text(r.cells[b][i][c].paper));
+        md += markdown_row(line);
+      }
+    }
+    md += "\nordering per column (ascending time; paper X = its time limit):\n\n";
+    for (const OrderingCheck& check : r.orderings[b]) {
+      auto order = [&](const std::vector<std::size_t>& o, const std::vector<bool>& tied) {
+        std::string s;
+        for (std::size_t k = 0; k < o.size(); ++k) {
+          if (k > 0) s += tied[k] ? " = " : " < ";
+          s += r.rows[o[k]];
+        }
+        return s;
+      };
+      std::string verdict = check.verdict == OrderingVerdict::holds           ? "holds"
+                            : check.verdict == OrderingVerdict::does_not_hold ? "does not hold"
+                                                                             : "not checked (" + check.why_not_checked + ")";
+      md += fmt::format("- {}: paper {} — ours {} — {}\n", r.columns[check.column],
+                        order(check.paper_order, check.paper_tied_with_previous),
+                        order(check.ours_order, check.ours_tied_with_previous), verdict);
+    }
+  }
+  return md;
+}
+
+std::string to_csv(const SweepReport& r, const ReportHeader& header) {
+  std::string csv = "table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,falsified_rate,"
+                    "timeouts,errors\r\n";
+  for (std::size_t b = 0; b < r.blocks.size(); ++b)
+    for (std::size_t i = 0; i < r.rows.size(); ++i)
+      for (std::size_t c = 0; c < r.columns.size(); ++c) {
+        const SweepCell& cell = r.cells[b][i][c];
+        if (!cell.run) continue;
+        const double rate = cell.n ? static_cast<double>(cell.falsified) / static_cast<double>(cell.n) : kNotReported;
+        csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\r\n", csv_field(r.id), csv_field(header.profile),
+                           csv_field(r.blocks[b]), csv_field(r.rows[i]), csv_field(r.methods[i]),
+                           csv_field(r.columns[c]), std::isinf(cell.paper) ? std::string("X") : csv_number(cell.paper),
+                           csv_number(cell.mean_s), csv_number(cell.median_s), cell.n, cell.falsified,
+                           csv_number(rate), cell.timeouts + cell.node_caps, cell.errors);
+      }
+  return csv;
+}
+
+}  // namespace hyfal

@@ -1,0 +1,46 @@
+// A sweep table (PaperTable::sweep, e.g. seed 002 Table 1) beside our trials: per block (driver),
+// rows = methods, columns = the swept instance values (|Q|); each cell the mean wall time over
+// its trials (one per safety property), the paper's value beside it, and per column whether
+// the paper's order of the rows holds for ours.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/paper_table.hpp"
+#include "core/trial_record.hpp"
+#include "results/paper_report.hpp"
+
+namespace hyfal {
+
+struct SweepCell {
+  bool run = false;               // the profile ran this column
+  double paper = kNotReported;    // seconds; kPaperTimeout for the paper's "X"
+  std::size_t n = 0, falsified = 0, timeouts = 0, node_caps = 0, not_found = 0, errors = 0;
+  // Wall seconds over the trials (errors excluded); a stopped trial counts with the time it had,
+  // so a cell with stopped trials is a lower bound (censored()).
+  double mean_s = kNotReported, median_s = kNotReported;
+  bool censored() const { return timeouts > 0 || node_caps > 0; }
+  bool all_stopped() const { return n > 0 && timeouts + node_caps == n; }  // our "X"
+};
+
+struct SweepReport {
+  std::string id, title, source, suite, notes;
+  std::vector<std::string> rows, methods, columns, blocks;
+  double paper_timeout_s = 0.0;
+  std::vector<std::vector<std::vector<SweepCell>>> cells;      // [block][row][column]
+  std::vector<std::vector<OrderingCheck>> orderings;           // [block][column], run columns
+};
+
+// trials[block][row][column]: the trials of that cell (any instance). Throws
+// std::invalid_argument when the shape does not match the table's sweep.
+SweepReport make_sweep_report(const PaperTable& table,
+                              const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
+                              int columns_run);
+
+std::string to_markdown(const SweepReport& report, const ReportHeader& header);
+// RFC 4180 CSV, one line per (block, row, column run): table,profile,block,row,method,column,
+// paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,errors (NaN empty, X = inf).
+std::string to_csv(const SweepReport& report, const ReportHeader& header);
+
+}  // namespace hyfal
