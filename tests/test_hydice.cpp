@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <deque>
 #include <map>
+#include <limits>
 #include <set>
 
+#include "core/inputs.hpp"
 #include "core/options.hpp"
 #include "core/planners/hydice/hydice.hpp"
 #include "core/system.hpp"
@@ -34,6 +36,7 @@ class FakeDecomposition final : public Decomposition {
     edge(0, 3);
     edge(3, 4);
     edge(4, 5);
+    edge(7, 8);
   }
   RegionId region_of(Mode, std::span<const double> x) const override { return static_cast<RegionId>(x[0]); }
   double volume(RegionId) const override { return 1.0; }
@@ -47,6 +50,12 @@ class FakeDecomposition final : public Decomposition {
     out[1] = 0.0;
   }
   double cell_size() const override { return 0.1; }
+  // The exact G_D distance to region 5 (an admissible A* heuristic); the island 7 - 8 has none.
+  double hops_to_unsafe(RegionId r) const override {
+    static const std::map<RegionId, double> hops{{0, 2}, {1, 1}, {2, 2}, {3, 2}, {4, 1}, {5, 0}};
+    auto it = hops.find(r);
+    return it == hops.end() ? std::numeric_limits<double>::infinity() : it->second;
+  }
   bool adjacent(RegionId a, RegionId b) const {
     const auto& v = adj_.at(a);
     return std::find(v.begin(), v.end(), b) != v.end();
@@ -76,6 +85,27 @@ TEST(HydiceLead, ShortestPathFollowsTheWeights) {
   // No unsafe region reachable.
   const std::vector<RegionId> nowhere{42};
   EXPECT_TRUE(hydice_lead(d, nowhere, [](RegionId) { return 1.0; }, nullptr).empty());
+}
+
+TEST(HydiceLead, AStarFindsTheDijkstraLeadAndPrunesUnreachableRegions) {
+  const FakeDecomposition d;
+  const std::vector<RegionId> starts{0};
+  LeadSearch search;  // one workspace for every search below, as the planner uses it
+  for (const double w1 : {0.01, 0.6, 0.7, 1.0, 5.0}) {
+    const auto weight = [w1](RegionId r) { return r == 1 ? w1 : 1.0; };
+    const auto dijkstra = hydice_lead(d, starts, weight, nullptr, 0.0);
+    // h = hops x (the cheapest edge cost, 1 / max(w)^2): admissible, so A* is exact.
+    const double cheapest = 1.0 / std::pow(std::max(1.0, w1), 2);
+    EXPECT_EQ(search.find(d, starts, weight, nullptr, cheapest), dijkstra) << w1;
+    EXPECT_LE(search.expanded(), 6u);
+  }
+  // With the heuristic along the short way the search expands the lead and nothing else.
+  EXPECT_EQ(search.find(d, starts, [](RegionId) { return 1.0; }, nullptr, 1.0), (std::vector<RegionId>{0, 1, 5}));
+  EXPECT_EQ(search.expanded(), 2u);  // 0 and 1; 5 ends the search when popped
+  // A start with no path to an unsafe region (hops = inf) is pruned at once.
+  const std::vector<RegionId> island{7};
+  EXPECT_TRUE(search.find(d, island, [](RegionId) { return 1.0; }, nullptr, 1.0).empty());
+  EXPECT_EQ(search.expanded(), 0u);
 }
 
 TEST(HydiceLead, RandomPathsAreValidAndTakeBothWays) {
@@ -216,9 +246,10 @@ TEST(HydiceNavigation, NavigationProvidesADecomposition) {
             nullptr);
 }
 
-void falsify(const char* method, int n, std::uint64_t seed) {
-  const int property = short_property(n, seed);
-  auto sys = make({{"n", std::to_string(n)}, {"seed", std::to_string(seed)}, {"property", std::to_string(property)}});
+void falsify(const char* method, int n, std::uint64_t seed, const char* driver = "random", int property = -1) {
+  if (property < 0) property = short_property(n, seed);
+  auto sys = make({{"n", std::to_string(n)}, {"seed", std::to_string(seed)}, {"property", std::to_string(property)},
+                   {"driver", driver}});
   auto planner = find_method(method)->make(resolve_options(find_method(method)->options, {}));
   const PlannerContext ctx{*sys, sys->info().parameters, 2024, PlannerLimits{8.0, 2'000'000}, {}};
   const PlannerOutcome out = planner->solve(ctx);
@@ -234,7 +265,7 @@ void falsify(const char* method, int n, std::uint64_t seed) {
   const ValidationReport report = validate_witness(*sys, w);
   EXPECT_TRUE(report.valid) << report.reason;
   EXPECT_LE(report.final_spec, 1e-6);
-  std::printf("[hydice] %s n = %d seed %d property %d: %lld nodes, %zu pieces, %s regions\n", method, n,
+  std::printf("[hydice] %s %s n = %d seed %d property %d: %lld nodes, %zu pieces, %s regions\n", method, driver, n,
               static_cast<int>(seed), property, static_cast<long long>(out.counters.nodes),
               out.trajectory->pieces.size(), out.metrics["regions_reached"].dump().c_str());
   // Deterministic from the seed.
@@ -251,6 +282,99 @@ TEST(HydiceNavigation, HydiceFalsifiesN4AndN8) {
 TEST(HydiceNavigation, NoLeadsFalsifiesN4AndN8) {
   falsify("hydice-noleads", 4, 1);
   falsify("hydice-noleads", 8, 1);
+}
+
+TEST(HydiceNavigation, HydiceFalsifiesUnderEveryDriverAndALongerRoute) {
+  // The witness validator checks each piece's u against the driver's interval at x_start.
+  falsify("hydice", 8, 1, "student");
+  falsify("hydice", 8, 1, "highway");
+  falsify("hydice", 32, 1, "random", 0);  // property 0: the route crosses tens of terrains
+}
+
+TEST(HydiceNavigation, HopsToUnsafeIsTheMazeDistance) {
+  auto sys = make({{"n", "16"}});
+  const Decomposition* d = sys->decomposition();
+  const auto maze = navigation_instance(*sys);
+  const auto pr = maze->properties()[0];
+  std::vector<int> dist(maze->terrains(), -1);
+  std::deque<Mode> queue{pr.unsafe};
+  dist[pr.unsafe] = 0;
+  while (!queue.empty()) {
+    const Mode q = queue.front();
+    queue.pop_front();
+    for (NavSide side : {NavSide::east, NavSide::north, NavSide::west, NavSide::south})
+      if (maze->open(q, side) && dist[maze->neighbour(q, side)] < 0) {
+        dist[maze->neighbour(q, side)] = dist[q] + 1;
+        queue.push_back(maze->neighbour(q, side));
+      }
+  }
+  for (Mode q = 0; q < maze->terrains(); ++q) {
+    const int manhattan = std::abs(maze->row(q) - maze->row(pr.unsafe)) + std::abs(maze->col(q) - maze->col(pr.unsafe));
+    for (RegionId r = q * 4; r < q * 4 + 4; ++r) {
+      EXPECT_EQ(d->hops_to_unsafe(r), dist[q]);
+      EXPECT_GE(d->hops_to_unsafe(r), manhattan);
+    }
+  }
+}
+
+TEST(NavigationDriverInputs, GridMapsOntoTheDriverIntervalAndValidatorChecksIt) {
+  auto sys = make({{"n", "4"}, {"driver", "student"}});
+  ASSERT_TRUE(sys->state_dependent_inputs());
+  EXPECT_FALSE(make({{"n", "4"}})->state_dependent_inputs());  // RandomDriver: U itself
+  const auto maze = navigation_instance(*sys);
+  Mode car = 0;
+  while (maze->vehicle(car) != NavVehicle::scar) ++car;
+  // SCar at 1.5 m/s (a = 0.5): StudentDriver brakes, u0 in [-0.8, -0.64]; u1 free.
+  const std::vector<double> x{0.5, 0.5, 0.0, 1.5, 0.0};
+  InputGrid grid(*sys);
+  grid.at(car, x);
+  ASSERT_EQ(grid.count(), 9u);
+  std::set<double> u0;
+  for (std::size_t j = 0; j < grid.count(); ++j) {
+    u0.insert(grid.input(j)[0]);
+    EXPECT_GE(grid.input(j)[0], -0.8);
+    EXPECT_LE(grid.input(j)[0], -0.64);
+  }
+  ASSERT_EQ(u0.size(), 3u);  // levels keep their places, endpoints exact
+  EXPECT_EQ(*u0.begin(), -0.8);
+  EXPECT_NEAR(*std::next(u0.begin()), -0.72, 1e-15);
+  EXPECT_EQ(*u0.rbegin(), navigation_driver_interval(NavDriver::student, NavVehicle::scar, x).hi[0]);
+
+  // A HyDICE witness under StudentDriver validates; with one input moved outside the driver's
+  // interval (still inside U) it does not.
+  const int property = short_property(8, 1);
+  auto s8 = make({{"n", "8"}, {"driver", "student"}, {"property", std::to_string(property)}});
+  auto planner = find_method("hydice")->make(resolve_options(find_method("hydice")->options, {}));
+  const PlannerOutcome out = planner->solve(PlannerContext{*s8, s8->info().parameters, 7, PlannerLimits{8.0, 2'000'000}, {}});
+  ASSERT_EQ(out.status, TrialStatus::falsified);
+  Witness w;
+  w.suite = "navigation";
+  w.instance = s8->info().instance;
+  w.method = "hydice";
+  w.state_names = s8->info().state_names;
+  w.input_names = s8->info().input_names;
+  w.trajectory = *out.trajectory;
+  ASSERT_TRUE(validate_witness(*s8, w).valid);
+  bool moved = false;
+  for (auto& piece : w.trajectory.pieces) {
+    std::vector<double> lo(2), hi(2);
+    s8->input_bounds(piece.mode, piece.x_start, lo, hi);
+    const Box& box = s8->inputs(piece.mode).box;
+    for (int k = 0; k < 2 && !moved; ++k) {
+      if (hi[k] < box.hi[k] - 1e-3) {
+        piece.u[k] = box.hi[k];
+        moved = true;
+      } else if (lo[k] > box.lo[k] + 1e-3) {
+        piece.u[k] = box.lo[k];
+        moved = true;
+      }
+    }
+    if (moved) break;
+  }
+  ASSERT_TRUE(moved) << "no piece with a driver interval narrower than U";
+  const ValidationReport bad = validate_witness(*s8, w);
+  EXPECT_FALSE(bad.valid);
+  EXPECT_NE(bad.reason.find("admissible"), std::string::npos) << bad.reason;
 }
 
 }  // namespace

@@ -2,12 +2,14 @@
 // the ordering check, metric extraction from TrialRecord::metrics, Markdown and CSV.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "results/paper_report.hpp"
+#include "results/sweep_report.hpp"
 
 namespace hyfal {
 namespace {
@@ -239,6 +241,53 @@ TEST(PaperReport, CsvLinesAndEscaping) {
 
 TEST(PaperReport, RowCountMismatchThrows) {
   EXPECT_THROW(make_paper_report(two_by_two(1, 2, 3, 4), {{}}), std::invalid_argument);
+}
+
+// --- sweep tables (seed 002 Table 1 shape) -------------------------------------------------------
+
+TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
+  PaperTable t;
+  t.id = "sweep";
+  t.rows = {{"RRT", "rrt", {}, {}}, {"HyDICE", "hydice", {}, {}}};
+  TableSweep sw;
+  sw.columns = {{"2²", {{"n", "2"}}}, {"4²", {{"n", "4"}}}, {"8²", {{"n", "8"}}}};
+  sw.blocks = {{"RandomDriver", {{"driver", "random"}}}};
+  sw.instance_key = "property";
+  sw.paper = {{{0.1, 0.3, kPaperTimeout}, {0.4, 0.6, 1.2}}};
+  sw.paper_timeout_s = 3600;
+  t.sweep = sw;
+  using Cells = std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>;
+  Cells trials(1, std::vector<std::vector<std::vector<TrialRecord>>>(2, std::vector<std::vector<TrialRecord>>(3)));
+  trials[0][0][0] = {trial(10, 1.0), trial(10, 3.0)};                            // RRT 2²: mean 2
+  trials[0][1][0] = {trial(10, 0.5), trial(10, 1.5)};                            // HyDICE 2²: mean 1
+  trials[0][0][1] = {trial(10, 20.0, TrialStatus::timeout), trial(10, 2.0)};     // censored
+  trials[0][1][1] = {trial(10, 0.2), trial(10, 0.4), trial(10, 1.0, TrialStatus::error)};
+  const SweepReport r = make_sweep_report(t, trials, 2);  // the profile ran 2², 4²
+  const SweepCell& a = r.cells[0][0][0];
+  EXPECT_TRUE(a.run);
+  EXPECT_EQ(a.n, 2u);
+  EXPECT_DOUBLE_EQ(a.mean_s, 2.0);
+  EXPECT_DOUBLE_EQ(a.paper, 0.1);
+  EXPECT_TRUE(r.cells[0][0][1].censored());
+  EXPECT_FALSE(r.cells[0][0][1].all_stopped());
+  EXPECT_DOUBLE_EQ(r.cells[0][0][1].mean_s, 11.0);
+  EXPECT_EQ(r.cells[0][1][1].errors, 1u);
+  EXPECT_NEAR(r.cells[0][1][1].mean_s, 0.3, 1e-12);  // errors excluded
+  EXPECT_FALSE(r.cells[0][0][2].run);
+  EXPECT_TRUE(std::isinf(r.cells[0][0][2].paper));
+  ASSERT_EQ(r.orderings[0].size(), 2u);
+  EXPECT_EQ(r.orderings[0][0].verdict, OrderingVerdict::does_not_hold);  // paper RRT < HyDICE, ours not
+  EXPECT_EQ(r.orderings[0][1].verdict, OrderingVerdict::does_not_hold);
+  ReportHeader h;
+  h.profile = "quick";
+  const std::string md = to_markdown(r, h);
+  EXPECT_NE(md.find("## RandomDriver"), std::string::npos);
+  EXPECT_NE(md.find("| HyDICE | 1.00 | 0.300 [2/3] |"), std::string::npos) << md;  // the error is not falsified
+  EXPECT_NE(md.find("≥11.0"), std::string::npos);
+  EXPECT_NE(md.find("| RRT | 0.1 | 0.3 | X |"), std::string::npos) << md;
+  const std::string csv = to_csv(r, h);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4);  // header + 2 rows x 2 run columns
+  EXPECT_THROW(make_sweep_report(t, Cells(2), 2), std::invalid_argument);
 }
 
 }  // namespace
