@@ -21,7 +21,7 @@ namespace {
 
 // ---------------------------------------------------------------- Halton and dispersion
 
-TEST(Halton, RadicalInverseBases2And3) {
+TEST(rrft_halton, RadicalInverseBases2And3) {
   const double base2[] = {0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875};
   const double base3[] = {1.0 / 3, 2.0 / 3, 1.0 / 9, 4.0 / 9, 7.0 / 9, 2.0 / 9, 5.0 / 9};
   for (int i = 0; i < 7; ++i) {
@@ -33,7 +33,7 @@ TEST(Halton, RadicalInverseBases2And3) {
   EXPECT_EQ(halton_base(2), 5u);
 }
 
-TEST(Halton, PointsAreMappedOntoTheBox) {
+TEST(rrft_halton, PointsAreMappedOntoTheBox) {
   HaltonSequence h(Box{{4.5, 0.0}, {5.5, 9.0}});
   const auto p1 = h.next(), p2 = h.next(), p3 = h.next();
   EXPECT_DOUBLE_EQ(p1[0], 5.0);   // 4.5 + 1/2
@@ -50,7 +50,7 @@ TEST(Halton, PointsAreMappedOntoTheBox) {
   EXPECT_THROW(HaltonSequence(Box{{0.0}, {1.0}}, {1.5}), std::invalid_argument);
 }
 
-TEST(Dispersion, OneDimensionalIsExact) {
+TEST(rrft_dispersion, OneDimensionalIsExact) {
   const Box unit{{0.0}, {1.0}};
   EXPECT_DOUBLE_EQ(dispersion({{0.5}}, unit), 0.5);
   EXPECT_DOUBLE_EQ(dispersion({{0.2}, {0.6}}, unit), 0.4);  // end gap 1 - 0.6
@@ -73,7 +73,7 @@ TEST(Dispersion, OneDimensionalIsExact) {
   EXPECT_DOUBLE_EQ(mu[14], 0.0625);
 }
 
-TEST(Dispersion, TwoDimensionalHandCases) {
+TEST(rrft_dispersion, TwoDimensionalHandCases) {
   const Box unit{{0.0, 0.0}, {1.0, 1.0}};
   // Centre: the corners are sqrt(1/2) away; µ_max = sqrt(2).
   EXPECT_NEAR(dispersion({{0.5, 0.5}}, unit), 0.5, 1e-12);
@@ -85,7 +85,7 @@ TEST(Dispersion, TwoDimensionalHandCases) {
   EXPECT_NEAR(dispersion({{0.5, 7.0}}, Box{{0.0, 7.0}, {1.0, 7.0}}), 0.5, 1e-12);
 }
 
-TEST(Dispersion, GridEstimateIsWithinItsBound) {
+TEST(rrft_dispersion, GridEstimateIsWithinItsBound) {
   Rng rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Box unit{{0.0, 0.0}, {1.0, 1.0}};
@@ -161,7 +161,7 @@ const NamedSeries* series(const PlannerOutcome& out, const std::string& name) {
 
 // ---------------------------------------------------------------- the planner
 
-TEST(Rrft, FindsTheUnsafeSetWhereItIsReachableAndTheWitnessValidates) {
+TEST(rrft, FindsTheUnsafeSetWhereItIsReachableAndTheWitnessValidates) {
   auto sys = ramp(1.2);
   // Two active trees: the first seeds 1/2 and 1/4 cannot reach x >= 1.2, must end, and make room
   // for the third, 3/4, which can.
@@ -192,7 +192,7 @@ TEST(Rrft, FindsTheUnsafeSetWhereItIsReachableAndTheWitnessValidates) {
   }
 }
 
-TEST(Rrft, UnreachableEverywhereEndsNotFoundOnceSeedsAreDispersed) {
+TEST(rrft, UnreachableEverywhereEndsNotFoundOnceSeedsAreDispersed) {
   auto sys = ramp(2.5);
   // µ̄ = 0.2: van der Corput seeds reach µ = 1/8 at the 7th (µ = 1/4 after 3 to 6).
   const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}));
@@ -226,7 +226,7 @@ TEST(Rrft, UnreachableEverywhereEndsNotFoundOnceSeedsAreDispersed) {
   EXPECT_GT(largest, 0.05);  // the trees did grow before they ended
 }
 
-TEST(Rrft, TreesEndWhenFullyGrown) {
+TEST(rrft, TreesEndWhenFullyGrown) {
   auto sys = ramp(2.5);
   // c̄ = 0.9 on D(T): a tree ends as soon as it covers 10 % of the grid, long before it stops
   // growing (ḡ = 0 never triggers while it still gains).
@@ -244,7 +244,7 @@ TEST(Rrft, TreesEndWhenFullyGrown) {
   }
 }
 
-TEST(Rrft, NodeCapIsExact) {
+TEST(rrft, NodeCapIsExact) {
   auto sys = ramp(2.5);
   const PlannerOutcome out = solve(*sys, rrft_options({{"g_min", "0"}, {"c_min", "0"}}), 5, 777);
   EXPECT_EQ(out.status, TrialStatus::node_cap);
@@ -270,7 +270,7 @@ void expect_same(const System& sys, const PlannerOutcome& a, const PlannerOutcom
   }
 }
 
-TEST(Rrft, SameOutcomeAtOneAndTwoThreads) {
+TEST(rrft, SameOutcomeAtOneAndTwoThreads) {
   auto run_in = [&](int threads, const System& sys, const Json& options, std::uint64_t seed) {
     PlannerOutcome out;
     tbb::task_arena arena(threads);
@@ -297,7 +297,7 @@ TEST(Rrft, SameOutcomeAtOneAndTwoThreads) {
   }
 }
 
-TEST(Rrft, ZeroDimensionalParameterSetGrowsOneTree) {
+TEST(rrft, ZeroDimensionalParameterSetGrowsOneTree) {
   const SuiteEntry* s = find_suite("thermostat");
   auto sys = s->make(resolve_options(s->parameters, {}));
   ASSERT_EQ(sys->info().parameter_box.dim(), 0u);
@@ -309,7 +309,7 @@ TEST(Rrft, ZeroDimensionalParameterSetGrowsOneTree) {
   EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrft", 0, *out.trajectory)).valid);
 }
 
-TEST(Rrft, TrialEngineValidatesTheWitness) {
+TEST(rrft, TrialEngineValidatesTheWitness) {
   auto sys = ramp(1.2);
   TrialJob job;
   job.key = {"test", "param-ramp-test", sys->info().instance.dump(), "rrft", "{}", 0};
@@ -324,7 +324,7 @@ TEST(Rrft, TrialEngineValidatesTheWitness) {
   EXPECT_FALSE(rec.series.empty());
 }
 
-TEST(Rrft, RejectsBadOptions) {
+TEST(rrft, RejectsBadOptions) {
   const MethodEntry* m = find_method("rrft");
   ASSERT_NE(m, nullptr);
   EXPECT_THROW(m->make(rrft_options({{"n_t", "0"}})), std::invalid_argument);
