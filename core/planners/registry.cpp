@@ -2,6 +2,7 @@
 #include "core/planner.hpp"
 #include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
 #include "core/planners/hydice/hydice.hpp"
+#include "core/planners/rrft/rrft.hpp"
 #include "core/planners/rrt/rrt.hpp"
 #include "core/planners/rrt_dstar/rrt_dstar.hpp"
 
@@ -14,6 +15,7 @@ const std::vector<MethodEntry>& all_methods() {
       hydice_method(),
       hydice_noleads_method(),
       rrt_dstar_method(),
+      rrft_method(),
   };
   return methods;
 }

@@ -1,0 +1,427 @@
+// RRFT — Rapidly-exploring Random Forest of Trees (seed 003, Sect. 4-5, Alg. 3).
+//
+// Seeds. P̄ starts with the first n_t points of a Halton sequence over the parameter box P
+// (core/samplers/halton.hpp; optionally Cranley–Patterson shifted per trial, `shift`). Tree T_i is
+// an RRT rooted at (x0, q0) that uses its seed p_i as the parameter vector of every propagation,
+// of the specification s(x, q; p_i) and of its witness (Trajectory::parameters = p_i). A
+// 0-dimensional P (or one with no axis of non-zero width) gives a single tree with the suite's
+// parameters: there is nothing to search, µ(P̄) = 0.
+//
+// Extension. Each extension is the baseline RRT step of core/planners/rrt/rrt_loop.hpp (x_rand
+// uniform over the sampling box, nearest node by the metric, the input of Ū whose propagation
+// over δt ends nearest x_rand; an extension where no input makes progress adds nothing), with
+// the tree's own random stream, seeded from (trial seed, seed index) only.
+//
+// Rounds (determinism at any thread count). The active trees are advanced in rounds: each gets
+// K extension attempts per round, as one oneTBB task (tbb::parallel_for inside an isolated
+// region, so a waiting thread never picks up another trial). Everything that couples the trees
+// happens at the round barrier, in seed order: the "found" check (a tree that reaches s <= 0
+// stops its round; when several did, the lowest seed index wins — with K = 1 this is exactly the
+// order of Alg. 3's for-loop), terminations, plantings, the budget. The node cap is exact:
+// before a round each tree gets a node quota min(K, what the cap leaves after the trees before
+// it), so the forest never holds more than max_nodes nodes. The coordinating thread publishes a
+// round with a release store that each task acquires, and each task ends with an acq_rel
+// increment that the coordinator acquires after the join: happens-before edges ThreadSanitizer
+// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it).
+//
+// Coverage convention. Each tree has a CoverageGrid on the suite's coverage grid (n_g points,
+// spacing δ). Seed 003's eq. (3) c(T) = 1/(n_g δ) Σ_j min(d_j, δ) FALLS from 1 to 0 as the tree
+// grows; core/coverage.hpp calls it D(T) = uncovered() (its coverage() is seed 000's 1 - D). So:
+//   "fully grown" (c(T) <= c̄ in the paper)   is   D(T) <= c_min,
+//   g(T) = -dD/dn_v, the finite difference over the last `window` nodes of the tree,
+//   "not growing" (g(T) <= ḡ)                is   n_g · g(T) <= g_min, evaluated once the tree
+//                                                 has more than `window` nodes.
+// The growth is scaled by n_g so that ḡ does not depend on the grid size: n_g·g is the coverage
+// gained per node in grid points' worth; a node in untouched space gains about π/3 ≈ 1 (in 2-D
+// and 3-D alike), a node refining an already dense region almost 0. A tree whose last `window`
+// extension attempts all failed (no input made progress) is terminated as stalled (D did not
+// change over those attempts: g = 0; without this rule such a tree would never reach the window).
+//
+// Planting. After the terminations of a round, while fewer than n_t trees are active, fewer than
+// max_seeds were planted, the node cap is not reached and µ(P̄) > µ̄, the next Halton point is
+// appended to P̄ and a tree is planted there (Alg. 3: one new tree per terminated one). µ(P̄) is the
+// dispersion of eq. (2) over P in normalized coordinates divided by µ_max = the diameter of the
+// normalized box (so µ in [0, 1]; exact for a 1-D P). The search ends falsified, not_found (no
+// tree active), timeout or node_cap (over the total nodes of the forest).
+//
+// Defaults (for the papers' examples: P of 1-3 dimensions, grids of 10^3-10^6 points):
+//   n_t = 4      maximum active trees: the paper plants 3 initial seeds for 5 aircraft, and
+//                "n_t is dictated by the number of CPUs"; 4 keeps a 2-4 core machine busy.
+//   K = 10       extensions per tree per round: rounds cost one task spawn/join per tree, so
+//                K = 10 amortizes it while keeping the trees' interleaving close to Alg. 3's.
+//   window = 200 nodes of the finite difference g: long enough to average out single nodes that
+//                happen to land in a gap, short next to the ~10^4 nodes of the papers' runs.
+//   g_min = 0.01 a tree is "not growing" when its nodes add on average 1 % of what a node in
+//                untouched space adds (ḡ = 1e-10 in the paper is on its own unnormalized scale;
+//                a raw 1e-10 would never stop a tree, since refining keeps g > 0 for a long time).
+//   c_min = 0.05 "fully grown": grid points lie on average within 5 % of δ of the tree.
+//   mu_min = 0.1 P is "covered" when no point of P is farther than 10 % of P's diameter from a
+//                seed: 15 seeds for a 1-D P (the paper found its counterexamples at 5 and 8).
+//   max_seeds = 64 a hard cap on the trees of one trial, whatever the dimension of P.
+// Recorded: metrics seeds_planted (= trees), nodes_per_tree, winning_seed (-1: none),
+// winning_parameter, dispersion_final, terminated_growth / _coverage / _stalled, rounds; series
+// coverage/tree<i> (D(T), i.e. seed 003's c(T), against the tree's nodes), growth/tree<i>
+// (n_g·g(T) against the tree's nodes), dispersion (µ(P̄) against the forest's total nodes, one
+// point per planting); counters over the whole forest.
+#include "core/planners/rrft/rrft.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <random>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "core/coverage.hpp"
+#include "core/nearest.hpp"
+#include "core/rng.hpp"
+#include "core/samplers/halton.hpp"
+#include "core/tree.hpp"
+
+namespace hyfal {
+
+namespace {
+
+struct RrftOptions {
+  int n_t = 4;
+  int K = 10;
+  double g_min = 0.01;
+  double c_min = 0.05;
+  double mu_min = 0.1;
+  int window = 200;
+  int max_seeds = 64;
+  bool shift = false;
+  int series_every = 50;
+};
+
+RrftOptions parse_options(const Json& o) {
+  RrftOptions r;
+  r.n_t = o.at("n_t").get<int>();
+  r.K = o.at("K").get<int>();
+  r.g_min = o.at("g_min").get<double>();
+  r.c_min = o.at("c_min").get<double>();
+  r.mu_min = o.at("mu_min").get<double>();
+  r.window = o.at("window").get<int>();
+  r.max_seeds = o.at("max_seeds").get<int>();
+  r.shift = o.at("shift").get<bool>();
+  r.series_every = o.at("series_every").get<int>();
+  if (r.n_t < 1) throw std::invalid_argument("rrft: n_t must be >= 1");
+  if (r.K < 1) throw std::invalid_argument("rrft: K must be >= 1");
+  if (!(r.g_min >= 0.0) || !std::isfinite(r.g_min)) throw std::invalid_argument("rrft: g_min must be finite and >= 0");
+  if (!(r.c_min >= 0.0 && r.c_min <= 1.0)) throw std::invalid_argument("rrft: c_min must be in [0, 1]");
+  if (!(r.mu_min >= 0.0 && r.mu_min <= 1.0)) throw std::invalid_argument("rrft: mu_min must be in [0, 1]");
+  if (r.window < 1) throw std::invalid_argument("rrft: window must be >= 1");
+  if (r.max_seeds < 1) throw std::invalid_argument("rrft: max_seeds must be >= 1");
+  if (r.series_every < 1) throw std::invalid_argument("rrft: series_every must be >= 1");
+  return r;
+}
+
+enum class TreeEnd { active, growth, coverage, stalled };
+
+// One tree of the forest, T_{p_i}. Touched by one task at a time (its round), else by the
+// coordinating thread at the barriers.
+struct ForestTree {
+  ForestTree(const System& sys, const WeightedEuclidean& metric, std::size_t index_, std::vector<double> p_,
+             std::uint64_t trial_seed)
+      : index(index_),
+        p(std::move(p_)),
+        nodes(sys.info().dim(), sys.info().input_names.size()),
+        nn(std::in_place, metric),
+        prop(sys.make_propagator()),
+        rng(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
+        grid(std::in_place, sys.info().coverage, sys.info().dim()),
+        coverage_series{fmt::format("coverage/tree{}", index_), {}},
+        growth_series{fmt::format("growth/tree{}", index_), {}} {
+    const SystemInfo& info = sys.info();
+    for (std::size_t i = 0; i < info.dim(); ++i) uniform.emplace_back(info.sampling_box.lo[i], info.sampling_box.hi[i]);
+    x_rand.resize(info.dim());
+    candidate.resize(info.dim());
+    x_new.resize(info.dim());
+  }
+
+  std::size_t index;
+  std::vector<double> p;
+  NodeStore nodes;
+  std::optional<NearestNeighbors> nn;  // released when the tree ends
+  std::unique_ptr<Propagator> prop;
+  Rng rng;
+  std::optional<CoverageGrid> grid;  // released when the tree ends
+  std::vector<std::uniform_real_distribution<double>> uniform;
+  std::vector<double> x_rand, candidate, x_new;
+  PlannerCounters counters;
+  std::int64_t failed_streak = 0;  // consecutive extension attempts that added nothing
+  NodeId leaf = kNoNode;           // a node with s <= 0, once found
+  TreeEnd end = TreeEnd::active;
+  NamedSeries coverage_series, growth_series;
+};
+
+class Rrft final : public Planner {
+ public:
+  explicit Rrft(RrftOptions o) : o_(o) {}
+
+  PlannerOutcome solve(const PlannerContext& ctx) override {
+    const System& sys = ctx.system;
+    const SystemInfo& info = sys.info();
+    if (!(info.coverage.spacing > 0.0))
+      throw std::invalid_argument(fmt::format("rrft: suite '{}' defines no coverage grid (needed for c(T), g(T))", info.suite));
+    PlannerOutcome out;
+    const WeightedEuclidean metric(info.metric_weights);
+    const SearchBudget budget(ctx);
+    const Box& P = info.parameter_box;
+    bool searched = false;  // does P have an axis of non-zero width?
+    for (std::size_t k = 0; k < P.dim(); ++k) searched = searched || P.hi[k] > P.lo[k];
+
+    std::vector<double> shift;
+    if (o_.shift && P.dim() > 0) {
+      Rng srng(splitmix64(ctx.seed ^ 0x48616c746f6e5368ULL));
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      for (std::size_t k = 0; k < P.dim(); ++k) shift.push_back(unit(srng));
+    }
+    HaltonSequence halton(P, shift);
+    std::vector<std::vector<double>> seeds;  // P̄
+    std::vector<std::unique_ptr<ForestTree>> trees;
+    std::vector<ForestTree*> active;  // in seed order
+    const std::size_t max_active = searched ? static_cast<std::size_t>(o_.n_t) : 1;
+    const std::size_t max_seeds = searched ? static_cast<std::size_t>(o_.max_seeds) : 1;
+    double mu = searched ? 1.0 : 0.0;
+    NamedSeries dispersion_series{"dispersion", {}};
+    PlannerCounters total;
+    auto recount = [&] {
+      total = {};
+      for (const auto& t : trees) {
+        total.nodes += t->counters.nodes;
+        total.propagations += t->counters.propagations;
+        total.integration_steps += t->counters.integration_steps;
+      }
+    };
+    const double n_g = [&] {
+      const CoverageGrid probe(info.coverage, info.dim());
+      return static_cast<double>(probe.points());
+    }();
+
+    auto plant = [&] {
+      std::vector<double> p = searched ? halton.next() : std::vector<double>(ctx.parameters.begin(), ctx.parameters.end());
+      seeds.push_back(p);
+      auto t = std::make_unique<ForestTree>(sys, metric, trees.size(), std::move(p), ctx.seed);
+      const NodeId root = t->nodes.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
+      t->nn->add(root, info.initial_state);
+      t->grid->add(info.initial_state);
+      t->counters.nodes = 1;
+      if (sys.spec(info.initial_mode, info.initial_state, t->p) <= 0.0) t->leaf = root;
+      active.push_back(t.get());
+      trees.push_back(std::move(t));
+      recount();
+      mu = searched ? dispersion(seeds, P) : 0.0;
+      dispersion_series.points.emplace_back(static_cast<double>(total.nodes), mu);
+    };
+    auto record_point = [&](ForestTree& t) {
+      const double n = static_cast<double>(t.nodes.size());
+      if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == n) return;
+      t.coverage_series.points.emplace_back(n, t.grid->uncovered());
+      if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
+        t.growth_series.points.emplace_back(n, n_g * t.grid->growth(static_cast<std::size_t>(o_.window)));
+    };
+
+    const std::size_t initial = std::min(max_active, max_seeds);
+    for (std::size_t i = 0; i < initial; ++i) plant();
+
+    std::atomic<std::uint64_t> epoch{0}, finished{0};  // happens-before edges ThreadSanitizer sees
+    std::vector<std::int64_t> quota;
+    std::int64_t rounds = 0;
+    ForestTree* winner = nullptr;
+    std::int64_t terminated[4] = {0, 0, 0, 0};
+    while (true) {
+      // The barrier, in seed order: found? (lowest seed index wins), then the budget.
+      for (ForestTree* t : active)
+        if (t->leaf != kNoNode) {
+          winner = t;
+          break;
+        }
+      if (winner) {
+        out.status = TrialStatus::falsified;
+        Trajectory traj = trajectory_from_tree(sys, *winner->prop, winner->nodes, winner->leaf, winner->p);
+        traj.parameters = winner->p;
+        out.trajectory = std::move(traj);
+        break;
+      }
+      if (active.empty()) {
+        out.status = TrialStatus::not_found;
+        break;
+      }
+      if (auto why = budget.exhausted(total.nodes)) {
+        out.status = *why;
+        break;
+      }
+
+      // One round: K attempts per active tree, node quotas in seed order.
+      std::int64_t left = ctx.limits.max_nodes - total.nodes;
+      quota.assign(active.size(), 0);
+      for (std::size_t i = 0; i < active.size(); ++i) {
+        quota[i] = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
+        left -= quota[i];
+      }
+      ++rounds;
+      epoch.store(static_cast<std::uint64_t>(rounds), std::memory_order_release);
+      auto run = [&](std::size_t i) {
+        (void)epoch.load(std::memory_order_acquire);
+        grow(sys, info, metric, budget, *active[i], quota[i]);
+        finished.fetch_add(1, std::memory_order_acq_rel);
+      };
+      if (active.size() == 1) {
+        run(0);
+      } else {
+        tbb::this_task_arena::isolate([&] {
+          tbb::parallel_for(
+              tbb::blocked_range<std::size_t>(0, active.size(), 1),
+              [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i) run(i);
+              },
+              tbb::simple_partitioner());
+        });
+      }
+      (void)finished.load(std::memory_order_acquire);
+      recount();
+
+      // Terminations (seed order), unless a tree found the unsafe set this round.
+      bool found = false;
+      for (ForestTree* t : active) found = found || t->leaf != kNoNode;
+      if (found) continue;
+      std::vector<ForestTree*> still;
+      for (ForestTree* t : active) {
+        const bool full_window = t->grid->nodes() > static_cast<std::size_t>(o_.window);
+        if (t->failed_streak >= o_.window)
+          t->end = TreeEnd::stalled;
+        else if (full_window && n_g * t->grid->growth(static_cast<std::size_t>(o_.window)) <= o_.g_min)
+          t->end = TreeEnd::growth;
+        else if (t->grid->uncovered() <= o_.c_min)
+          t->end = TreeEnd::coverage;
+        if (t->end == TreeEnd::active) {
+          still.push_back(t);
+          continue;
+        }
+        ++terminated[static_cast<int>(t->end)];
+        record_point(*t);
+        release(*t);
+      }
+      active.swap(still);
+      // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
+      while (searched && active.size() < max_active && trees.size() < max_seeds && mu > o_.mu_min &&
+             total.nodes < ctx.limits.max_nodes)
+        plant();
+    }
+
+    // Per-trial results.
+    recount();
+    out.counters = total;
+    Json per_tree = Json::array();
+    for (auto& t : trees) {
+      per_tree.push_back(t->counters.nodes);
+      if (t->grid) record_point(*t);
+      out.series.push_back(std::move(t->coverage_series));
+      out.series.push_back(std::move(t->growth_series));
+    }
+    out.series.push_back(std::move(dispersion_series));
+    out.metrics["seeds_planted"] = trees.size();
+    out.metrics["trees"] = trees.size();
+    out.metrics["nodes_per_tree"] = per_tree;
+    out.metrics["winning_seed"] = winner ? static_cast<std::int64_t>(winner->index) : std::int64_t{-1};
+    out.metrics["winning_parameter"] = winner ? Json(winner->p) : Json(nullptr);
+    out.metrics["dispersion_final"] = mu;
+    out.metrics["terminated_growth"] = terminated[static_cast<int>(TreeEnd::growth)];
+    out.metrics["terminated_coverage"] = terminated[static_cast<int>(TreeEnd::coverage)];
+    out.metrics["terminated_stalled"] = terminated[static_cast<int>(TreeEnd::stalled)];
+    out.metrics["rounds"] = rounds;
+    return out;
+  }
+
+ private:
+  // Up to K extension attempts of one tree (the RRT step of rrt_loop.hpp), at most `quota`
+  // nodes added; stops early when the tree reaches s <= 0 or the time is up.
+  void grow(const System& sys, const SystemInfo& info, const WeightedEuclidean& metric, const SearchBudget& budget,
+            ForestTree& t, std::int64_t quota) const {
+    const std::size_t n = info.dim();
+    const std::span<const double> p = t.p;
+    std::int64_t added = 0;
+    for (int a = 0; a < o_.K && added < quota && t.leaf == kNoNode; ++a) {
+      if (budget.exhausted(0)) return;  // time or cancellation (the node cap is the quota's)
+      for (std::size_t i = 0; i < n; ++i) t.x_rand[i] = t.uniform[i](t.rng);
+      const NodeId near = t.nn->nearest(t.x_rand).id;
+      NodeInfo& near_info = t.nodes.info(near);
+      ++near_info.selections;
+      const Mode q = near_info.mode;
+      const InputSet& U = sys.inputs(q);
+      const auto x_near = t.nodes.state(near);
+
+      double best = std::numeric_limits<double>::infinity();
+      std::size_t best_j = 0;
+      PropagationResult best_r;
+      for (std::size_t j = 0; j < U.count(); ++j) {
+        const PropagationResult r = t.prop->propagate(q, x_near, U.input(j), p, info.step_duration, t.candidate);
+        ++t.counters.propagations;
+        t.counters.integration_steps += r.steps;
+        if (r.end == PropagationEnd::rejected) continue;
+        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
+        const double d = metric.distance(t.x_rand, t.candidate);
+        if (d < best) {
+          best = d;
+          best_j = j;
+          best_r = r;
+          t.x_new.swap(t.candidate);
+        }
+      }
+      if (best == std::numeric_limits<double>::infinity()) {  // no input made progress
+        ++near_info.failed_extensions;
+        ++t.failed_streak;
+        continue;
+      }
+      const NodeId id = t.nodes.add(near, q, best_r.mode, t.x_new, U.input(best_j), best_r.duration, best_r.transition);
+      t.nn->add(id, t.x_new);
+      t.grid->add(t.x_new);
+      ++t.counters.nodes;
+      ++added;
+      t.failed_streak = 0;
+      if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
+        t.coverage_series.points.emplace_back(static_cast<double>(t.nodes.size()), t.grid->uncovered());
+        if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
+          t.growth_series.points.emplace_back(static_cast<double>(t.nodes.size()),
+                                              static_cast<double>(t.grid->points()) *
+                                                  t.grid->growth(static_cast<std::size_t>(o_.window)));
+      }
+      if (best_r.end == PropagationEnd::unsafe || best_r.spec <= 0.0) t.leaf = id;
+    }
+  }
+
+  // A terminated tree never wins: free its search structures, keep its counters and series.
+  static void release(ForestTree& t) {
+    t.grid.reset();
+    t.nn.reset();
+    t.prop.reset();
+    t.nodes = NodeStore(t.nodes.state_dim(), t.nodes.input_dim());
+  }
+
+  RrftOptions o_;
+};
+
+}  // namespace
+
+MethodEntry rrft_method() {
+  return {"rrft",
+          "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
+          "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
+          {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)"},
+           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)"},
+           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)"},
+           {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min"},
+           {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min"},
+           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled"},
+           {"max_seeds", 64, "at most this many seeds (trees) per trial"},
+           {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
+           {"series_every", 50, "tree nodes between points of the coverage/growth series"}},
+          [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); }};
+}
+
+}  // namespace hyfal

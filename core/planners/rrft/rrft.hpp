@@ -1,0 +1,11 @@
+#pragma once
+#include "core/planner.hpp"
+
+namespace hyfal {
+
+// RRFT, the Rapidly-exploring Random Forest of Trees of seed 003 (Alg. 3): one RRT per seed
+// p in P̄ (a Halton sequence over P), trees terminated on growth or coverage and replaced while
+// the seeds' dispersion µ(P̄) is above µ̄. See rrft.cpp for the conventions and defaults.
+MethodEntry rrft_method();
+
+}  // namespace hyfal

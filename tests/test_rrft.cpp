@@ -1,0 +1,337 @@
+// RRFT (seed 003 Alg. 3): the Halton sequence and the dispersion µ(P̄) of eq. (2) on hand cases;
+// the planner on a test model whose unsafe set is reachable only for part of P (found there,
+// witness valid), unreachable everywhere (seeds planted until µ <= µ̄, then not_found), trees
+// terminated by growth and by coverage, the exact node cap, the same outcome at 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "core/options.hpp"
+#include "core/rng.hpp"
+#include "core/samplers/halton.hpp"
+#include "core/system.hpp"
+#include "parallel/trial_engine.hpp"
+#include "suites/registry.hpp"
+
+namespace hyfal {
+namespace {
+
+// ---------------------------------------------------------------- Halton and dispersion
+
+TEST(rrft_halton, RadicalInverseBases2And3) {
+  const double base2[] = {0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875};
+  const double base3[] = {1.0 / 3, 2.0 / 3, 1.0 / 9, 4.0 / 9, 7.0 / 9, 2.0 / 9, 5.0 / 9};
+  for (int i = 0; i < 7; ++i) {
+    EXPECT_DOUBLE_EQ(radical_inverse(i + 1, 2), base2[i]) << i + 1;
+    EXPECT_NEAR(radical_inverse(i + 1, 3), base3[i], 1e-15) << i + 1;
+  }
+  EXPECT_EQ(radical_inverse(0, 2), 0.0);
+  EXPECT_EQ(halton_base(0), 2u);
+  EXPECT_EQ(halton_base(2), 5u);
+}
+
+TEST(rrft_halton, PointsAreMappedOntoTheBox) {
+  HaltonSequence h(Box{{4.5, 0.0}, {5.5, 9.0}});
+  const auto p1 = h.next(), p2 = h.next(), p3 = h.next();
+  EXPECT_DOUBLE_EQ(p1[0], 5.0);   // 4.5 + 1/2
+  EXPECT_NEAR(p1[1], 3.0, 1e-12);  // 9 * 1/3
+  EXPECT_DOUBLE_EQ(p2[0], 4.75);
+  EXPECT_NEAR(p2[1], 6.0, 1e-12);
+  EXPECT_DOUBLE_EQ(p3[0], 5.25);
+  EXPECT_NEAR(p3[1], 1.0, 1e-12);
+  EXPECT_EQ(h.point(3), p3);
+  // Cranley-Patterson shift: frac(u + s).
+  HaltonSequence s(Box{{0.0}, {2.0}}, {0.75});
+  EXPECT_DOUBLE_EQ(s.point(1)[0], 0.5);   // 2 * frac(0.5 + 0.75)
+  EXPECT_DOUBLE_EQ(s.point(2)[0], 0.0);   // frac(0.25 + 0.75) = 0
+  EXPECT_THROW(HaltonSequence(Box{{0.0}, {1.0}}, {1.5}), std::invalid_argument);
+}
+
+TEST(rrft_dispersion, OneDimensionalIsExact) {
+  const Box unit{{0.0}, {1.0}};
+  EXPECT_DOUBLE_EQ(dispersion({{0.5}}, unit), 0.5);
+  EXPECT_DOUBLE_EQ(dispersion({{0.2}, {0.6}}, unit), 0.4);  // end gap 1 - 0.6
+  EXPECT_DOUBLE_EQ(dispersion({{0.1}, {0.9}}, unit), 0.4);  // half the inner gap
+  EXPECT_DOUBLE_EQ(dispersion({{5.0}}, Box{{4.5}, {5.5}}), 0.5);  // normalized by P's width
+  EXPECT_EQ(dispersion({}, unit), 1.0);
+  EXPECT_EQ(dispersion({{}}, Box{}), 0.0);  // a 0-dimensional P is covered by any seed
+  // van der Corput: the first 7 points leave gaps of 1/8 at both ends, the first 15 of 1/16.
+  HaltonSequence h(unit);
+  std::vector<std::vector<double>> pts;
+  std::vector<double> mu;
+  for (int i = 0; i < 15; ++i) {
+    pts.push_back(h.next());
+    mu.push_back(dispersion(pts, unit));
+  }
+  EXPECT_DOUBLE_EQ(mu[0], 0.5);
+  EXPECT_DOUBLE_EQ(mu[2], 0.25);
+  EXPECT_DOUBLE_EQ(mu[6], 0.125);
+  EXPECT_DOUBLE_EQ(mu[13], 0.125);
+  EXPECT_DOUBLE_EQ(mu[14], 0.0625);
+}
+
+TEST(rrft_dispersion, TwoDimensionalHandCases) {
+  const Box unit{{0.0, 0.0}, {1.0, 1.0}};
+  // Centre: the corners are sqrt(1/2) away; µ_max = sqrt(2).
+  EXPECT_NEAR(dispersion({{0.5, 0.5}}, unit), 0.5, 1e-12);
+  EXPECT_NEAR(dispersion({{0.0, 0.0}}, unit), 1.0, 1e-12);
+  // Quarter points: the centre, the corners and the edge midpoints are sqrt(1/8) away.
+  EXPECT_NEAR(dispersion({{0.25, 0.25}, {0.25, 0.75}, {0.75, 0.25}, {0.75, 0.75}}, unit), 0.25, 1e-12);
+  // Scaled box: same configuration, same normalized value; a zero-width axis is ignored.
+  EXPECT_NEAR(dispersion({{5.0, -1.0}}, Box{{4.0, -3.0}, {6.0, 1.0}}), 0.5, 1e-12);
+  EXPECT_NEAR(dispersion({{0.5, 7.0}}, Box{{0.0, 7.0}, {1.0, 7.0}}), 0.5, 1e-12);
+}
+
+TEST(rrft_dispersion, GridEstimateIsWithinItsBound) {
+  Rng rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Box unit{{0.0, 0.0}, {1.0, 1.0}};
+  std::vector<std::vector<double>> pts;
+  for (int i = 0; i < 12; ++i) pts.push_back({u(rng), u(rng)});
+  const double coarse = dispersion(pts, unit, 17 * 17);  // r = 17
+  const double fine = dispersion(pts, unit, 1001 * 1001);
+  const double bound = std::sqrt(2.0) / (2.0 * 16.0) / std::sqrt(2.0);
+  EXPECT_LE(coarse, fine + 1e-12);  // both lower bounds; the finer grid contains the coarse one
+  EXPECT_LE(fine - coarse, bound);
+  EXPECT_GT(coarse, 0.05);
+}
+
+// ---------------------------------------------------------------- the test model
+//
+// x = (x, t), p in P = [0, 1]: x' = p u with u in Ū = {0, 1/2, 1}, t' = 1, horizon t <= 2.
+// Mode 0 until x > 0.3 (urgent, identity reset), then mode 1 (same flow). Unsafe: x >= h.
+// The largest x reachable is 2p, so for h = 1.2 the unsafe set is reachable iff p >= 0.6;
+// for h = 2.5 it is unreachable for every p in P.
+struct ParamRamp {
+  double h = 1.2;
+  InputSet U = InputSet::grid({{0.0}, {1.0}}, 3);
+  int dim() const { return 2; }
+  void flow(Mode, const double*, const double* u, const double* p, double* dx) const {
+    dx[0] = p[0] * u[0];
+    dx[1] = 1.0;
+  }
+  int guard_count(Mode q) const { return q == 0 ? 1 : 0; }
+  double guard(Mode, int, const double* x, const double*) const { return x[0] - 0.3; }
+  Mode jump(Mode, int, double*, const double*) const { return 1; }
+  bool invariant(Mode, const double* x, const double*) const { return x[1] <= 2.0; }
+  double spec(Mode, const double* x, const double*) const { return h - x[0]; }
+  const InputSet& inputs(Mode) const { return U; }
+};
+
+std::shared_ptr<const System> ramp(double h) {
+  SystemInfo info;
+  info.suite = "param-ramp-test";
+  info.instance = Json{{"h", h}};
+  info.state_names = {"x", "t"};
+  info.input_names = {"u"};
+  info.parameter_names = {"p"};
+  info.parameter_box = {{0.0}, {1.0}};
+  info.parameters = {0.5};
+  info.initial_mode = 0;
+  info.initial_state = {0.0, 0.0};
+  info.sampling_box = {{0.0, 0.0}, {2.0, 2.0}};
+  info.metric_weights = {1.0, 1.0};
+  info.coverage = {{}, info.sampling_box, 0.1};
+  info.step_duration = 0.1;
+  info.integrator.kind = IntegratorKind::rk4;
+  info.integrator.step = 0.1;
+  info.integrator.max_step = 0.1;
+  return std::make_shared<ModelSystem<ParamRamp>>(ParamRamp{h}, std::move(info));
+}
+
+Json rrft_options(std::vector<std::pair<std::string, std::string>> sets = {}) {
+  return resolve_options(find_method("rrft")->options, sets);
+}
+
+PlannerOutcome solve(const System& sys, const Json& options, std::uint64_t seed = 11,
+                     std::int64_t max_nodes = 1'000'000) {
+  auto planner = find_method("rrft")->make(options);
+  const PlannerContext ctx{sys, sys.info().parameters, seed, PlannerLimits{60.0, max_nodes}, {}};
+  return planner->solve(ctx);
+}
+
+const NamedSeries* series(const PlannerOutcome& out, const std::string& name) {
+  for (const auto& s : out.series)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+// ---------------------------------------------------------------- the planner
+
+TEST(rrft, FindsTheUnsafeSetWhereItIsReachableAndTheWitnessValidates) {
+  auto sys = ramp(1.2);
+  // Two active trees: the first seeds 1/2 and 1/4 cannot reach x >= 1.2, must end, and make room
+  // for the third, 3/4, which can.
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "2"}}), seed);
+    ASSERT_EQ(out.status, TrialStatus::falsified) << "seed " << seed;
+    ASSERT_TRUE(out.trajectory);
+    const Trajectory& t = *out.trajectory;
+    ASSERT_EQ(t.parameters.size(), 1u);
+    EXPECT_GE(t.parameters[0], 0.6);  // the part of P where the unsafe set is reachable
+    EXPECT_EQ(out.metrics.at("winning_parameter"), Json(t.parameters));
+    EXPECT_GE(out.metrics.at("winning_seed").get<int>(), 2);
+    EXPECT_GE(out.metrics.at("seeds_planted").get<int>(), 3);
+    const int ended = out.metrics.at("terminated_growth").get<int>() + out.metrics.at("terminated_coverage").get<int>() +
+                      out.metrics.at("terminated_stalled").get<int>();
+    EXPECT_GE(ended, 1);  // an initial tree ended, so that a third could be planted
+    EXPECT_GE(t.final_x[0], 1.2 - 1e-9);
+    const ValidationReport report = validate_witness(*sys, make_witness(*sys, "rrft", 0, t));
+    EXPECT_TRUE(report.valid) << report.reason;
+    // Counters are the forest's sums.
+    std::int64_t sum = 0;
+    for (const auto& n : out.metrics.at("nodes_per_tree")) sum += n.get<std::int64_t>();
+    EXPECT_EQ(sum, out.counters.nodes);
+    EXPECT_GE(out.counters.propagations, out.counters.nodes - out.metrics.at("seeds_planted").get<int>());
+    ASSERT_NE(series(out, "dispersion"), nullptr);
+    EXPECT_NE(series(out, "coverage/tree0"), nullptr);
+    EXPECT_NE(series(out, "growth/tree0"), nullptr);
+  }
+}
+
+TEST(rrft, UnreachableEverywhereEndsNotFoundOnceSeedsAreDispersed) {
+  auto sys = ramp(2.5);
+  // µ̄ = 0.2: van der Corput seeds reach µ = 1/8 at the 7th (µ = 1/4 after 3 to 6).
+  const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}));
+  EXPECT_EQ(out.status, TrialStatus::not_found);
+  EXPECT_FALSE(out.trajectory);
+  EXPECT_EQ(out.metrics.at("seeds_planted").get<int>(), 7);
+  EXPECT_EQ(out.metrics.at("winning_seed").get<int>(), -1);
+  EXPECT_DOUBLE_EQ(out.metrics.at("dispersion_final").get<double>(), 0.125);
+  const NamedSeries* mu = series(out, "dispersion");
+  ASSERT_NE(mu, nullptr);
+  ASSERT_EQ(mu->points.size(), 7u);
+  for (std::size_t i = 1; i < mu->points.size(); ++i) {
+    EXPECT_LE(mu->points[i].second, mu->points[i - 1].second);
+    EXPECT_GT(mu->points[i].first, mu->points[i - 1].first);  // against the forest's nodes
+  }
+  EXPECT_GT(mu->points[5].second, 0.2);  // planting stopped exactly when µ <= µ̄
+  // Every tree ended by growth (D(T) stays above c̄ = 0.05: at most half the box is reachable).
+  EXPECT_EQ(out.metrics.at("terminated_growth").get<int>(), 7);
+  double largest = 0.0;
+  for (int i = 0; i < 7; ++i) {
+    const NamedSeries* g = series(out, "growth/tree" + std::to_string(i));
+    ASSERT_NE(g, nullptr);
+    ASSERT_FALSE(g->points.empty());
+    EXPECT_LE(g->points.back().second, 0.01) << i;  // n_g g(T) <= ḡ at the end
+    for (const auto& [n, v] : g->points) largest = std::max(largest, v);
+    const NamedSeries* c = series(out, "coverage/tree" + std::to_string(i));
+    ASSERT_NE(c, nullptr);
+    EXPECT_GT(c->points.back().second, 0.4) << i;
+    EXPECT_LT(c->points.back().second, c->points.front().second) << i;  // D(T) falls as T grows
+  }
+  EXPECT_GT(largest, 0.05);  // the trees did grow before they ended
+}
+
+TEST(rrft, TreesEndWhenFullyGrown) {
+  auto sys = ramp(2.5);
+  // c̄ = 0.9 on D(T): a tree ends as soon as it covers 10 % of the grid, long before it stops
+  // growing (ḡ = 0 never triggers while it still gains).
+  const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "2"}, {"mu_min", "0.3"}, {"c_min", "0.9"}, {"g_min", "0"}}));
+  EXPECT_EQ(out.status, TrialStatus::not_found);
+  const int seeds = out.metrics.at("seeds_planted").get<int>();
+  EXPECT_EQ(seeds, 3);  // µ: 1/2, 1/2, 1/4 <= 0.3
+  EXPECT_EQ(out.metrics.at("terminated_coverage").get<int>(), seeds);
+  EXPECT_EQ(out.metrics.at("terminated_growth").get<int>(), 0);
+  for (int i = 0; i < seeds; ++i) {
+    const NamedSeries* c = series(out, "coverage/tree" + std::to_string(i));
+    ASSERT_NE(c, nullptr);
+    EXPECT_LE(c->points.back().second, 0.9) << i;
+    EXPECT_GT(c->points.back().second, 0.85) << i;  // it ended at the first round past c̄
+  }
+}
+
+TEST(rrft, NodeCapIsExact) {
+  auto sys = ramp(2.5);
+  const PlannerOutcome out = solve(*sys, rrft_options({{"g_min", "0"}, {"c_min", "0"}}), 5, 777);
+  EXPECT_EQ(out.status, TrialStatus::node_cap);
+  EXPECT_EQ(out.counters.nodes, 777);
+  EXPECT_EQ(out.metrics.at("seeds_planted").get<int>(), 4);
+}
+
+void expect_same(const System& sys, const PlannerOutcome& a, const PlannerOutcome& b) {
+  EXPECT_EQ(b.status, a.status);
+  EXPECT_EQ(b.counters.nodes, a.counters.nodes);
+  EXPECT_EQ(b.counters.propagations, a.counters.propagations);
+  EXPECT_EQ(b.counters.integration_steps, a.counters.integration_steps);
+  EXPECT_EQ(b.metrics.dump(), a.metrics.dump());
+  ASSERT_EQ(a.trajectory.has_value(), b.trajectory.has_value());
+  if (a.trajectory) {
+    EXPECT_EQ(to_json(make_witness(sys, "rrft", 0, *b.trajectory)).dump(),
+              to_json(make_witness(sys, "rrft", 0, *a.trajectory)).dump());
+  }
+  ASSERT_EQ(b.series.size(), a.series.size());
+  for (std::size_t i = 0; i < a.series.size(); ++i) {
+    EXPECT_EQ(b.series[i].name, a.series[i].name);
+    EXPECT_EQ(b.series[i].points, a.series[i].points) << a.series[i].name;
+  }
+}
+
+TEST(rrft, SameOutcomeAtOneAndTwoThreads) {
+  auto run_in = [&](int threads, const System& sys, const Json& options, std::uint64_t seed) {
+    PlannerOutcome out;
+    tbb::task_arena arena(threads);
+    arena.execute([&] { out = solve(sys, options, seed); });
+    return out;
+  };
+  {  // falsified after terminations and a planting
+    auto sys = ramp(1.2);
+    const Json options = rrft_options({{"n_t", "2"}, {"K", "7"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 99), b = run_in(2, *sys, options, 99);
+    ASSERT_EQ(a.status, TrialStatus::falsified);
+    EXPECT_GE(a.metrics.at("seeds_planted").get<int>(), 3);
+    expect_same(*sys, a, b);
+    // A different trial seed gives a different search (the seed reaches the trees' streams).
+    const PlannerOutcome c = run_in(2, *sys, options, 100);
+    EXPECT_NE(c.counters.propagations, a.counters.propagations);
+  }
+  {  // not_found: three trees at a time, seven plantings
+    auto sys = ramp(2.5);
+    const Json options = rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 5), b = run_in(2, *sys, options, 5);
+    ASSERT_EQ(a.status, TrialStatus::not_found);
+    expect_same(*sys, a, b);
+  }
+}
+
+TEST(rrft, ZeroDimensionalParameterSetGrowsOneTree) {
+  const SuiteEntry* s = find_suite("thermostat");
+  auto sys = s->make(resolve_options(s->parameters, {}));
+  ASSERT_EQ(sys->info().parameter_box.dim(), 0u);
+  const PlannerOutcome out = solve(*sys, rrft_options(), 3);
+  ASSERT_EQ(out.status, TrialStatus::falsified);
+  EXPECT_EQ(out.metrics.at("seeds_planted").get<int>(), 1);
+  EXPECT_EQ(out.metrics.at("winning_seed").get<int>(), 0);
+  EXPECT_EQ(out.metrics.at("dispersion_final").get<double>(), 0.0);
+  EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrft", 0, *out.trajectory)).valid);
+}
+
+TEST(rrft, TrialEngineValidatesTheWitness) {
+  auto sys = ramp(1.2);
+  TrialJob job;
+  job.key = {"test", "param-ramp-test", sys->info().instance.dump(), "rrft", "{}", 0};
+  job.system = sys;
+  job.method = find_method("rrft");
+  job.method_options = rrft_options();
+  job.limits = {60.0, 200000};
+  job.seed = 17;
+  const TrialRecord rec = run_trial(job, EngineOptions{});
+  EXPECT_EQ(rec.status, TrialStatus::falsified) << rec.error;
+  EXPECT_TRUE(rec.validated);
+  EXPECT_FALSE(rec.series.empty());
+}
+
+TEST(rrft, RejectsBadOptions) {
+  const MethodEntry* m = find_method("rrft");
+  ASSERT_NE(m, nullptr);
+  EXPECT_THROW(m->make(rrft_options({{"n_t", "0"}})), std::invalid_argument);
+  EXPECT_THROW(m->make(rrft_options({{"mu_min", "1.5"}})), std::invalid_argument);
+  EXPECT_THROW(m->make(rrft_options({{"window", "0"}})), std::invalid_argument);
+  EXPECT_NO_THROW(m->make(rrft_options()));
+}
+
+}  // namespace
+}  // namespace hyfal
