@@ -5,18 +5,32 @@
 // Choices the paper leaves open (documented here, options in hydice_method()):
 //  - Time. t(D) and t_σ are measured in propagations, not seconds, so that a trial is a
 //    deterministic function of ctx.seed: t(D) = 1 + (propagations started from states in D)
-//    (the 1 keeps w finite for a region not yet extended), t_σ = `t_sigma` propagations per lead.
+//    (the 1 keeps w finite for a region not yet extended); t_σ = max(`t_sigma`, regions the
+//    lead search expanded / kExpansionsPerPropagation) propagations per lead — the paper's t_σ
+//    is wall time, which the second term approximates: a long lead search buys a long step.
 //  - cov(D) = number of coverage cells (side Decomposition::cell_size() on the projection)
 //    holding at least one tree state; cells are keyed by (region, ix, iy) in a hash map.
-//  - ν = ζ = τ = 1 by default (the paper calls them normalization constants and gives no
-//    values). A region not reached yet has the default lead weight vol^ν (as cov = t = 1).
+//  - ν, ζ, τ = 1, 2, 0.5 by default (the paper calls them normalization constants and gives no
+//    values). Chosen by a sweep on navigation, random driver, property 0, seed 1, nodes to a
+//    witness (2 trials each): (1, 1, 1) 305k / 326k at 64² and no witness in 30 s at 128²;
+//    (1, 2, 0.5) 38k / 57k at 64², 84k / 113k at 128², 129k / 138k at 256². With ζ = 2 a
+//    well-covered region is a cheap edge, so leads run through the tree to its frontier instead
+//    of fanning out across the maze; τ = 0.5 still makes a region that keeps failing dearer.
+//    A region not reached yet has the lead weight vol^ν (as cov = t = 1).
 //  - Leads: with probability `shortest_probability` (0.9, Sect. 4) the shortest path for edge cost
-//    1/(w_i w_j) (Dijkstra over the implicit graph: only regions it touches are stored); else a
-//    random path: the shortest path for i.i.d. edge costs uniform in (0, 1].
+//    1/(w_i w_j); else a random path, the shortest for i.i.d. edge costs uniform in (0, 1]. Both
+//    by A* over the implicit graph (LeadSearch; only regions it touches are stored) with
+//    h(r) = `lead_heuristic` x Decomposition::hops_to_unsafe(r) x c, c = the cost of an edge
+//    between two unreached regions (1 for random paths): exact on unreached ground, where
+//    the lead leaves the tree, and an overestimate inside a well-covered tree, where it makes
+//    the search greedy. Regions with no path to an unsafe one (hops = inf) are never queued.
 //  - v_safe's edges go to the regions of the initial states (every initial state is a root of
 //    the one tree, so a witness may start from any of them).
-//  - Inputs: the System interface exposes no driver model, so u is drawn uniformly from the
-//    mode's discretized input set Ū_q and applied for the suite's δt (SystemInfo::step_duration).
+//  - Inputs: `controls` inputs drawn uniformly from the admissible box at the selected state
+//    (System::input_bounds: the navigation drivers' intervals of Sect. 4.1.2, U otherwise),
+//    each applied for the suite's δt (SystemInfo::step_duration); with controls > 1 the end
+//    state nearest (on the projection) to the centre of the next lead region is kept — a
+//    steering step the paper does not have; controls = 1 (the default) is the paper's.
 //  - State selection: cell ∝ 1/nsel² with nsel = selections so far + 1; then a state of the cell
 //    uniformly. A propagation that makes no progress (rejected, or zero time without a jump) adds
 //    no node but still counts toward t(D) and t_σ.
