@@ -382,7 +382,9 @@ int cmd_reproduce(const ReproduceArgs& a) {
         for (const auto& [x, y] : store.series_of(record.key, name))
           csv += fmt::format("{},{},{},{}\r\n", text::csv_field(table->rows[r].label), record.key.trial_index,
                              text::csv_number(x), text::csv_number(y));
-    write_file_atomic((out_dir / (table->id + "-" + name + ".csv")).string(), csv);
+    std::string file = name;  // a series name may hold '/', e.g. "coverage/tree0"
+    std::replace(file.begin(), file.end(), '/', '-');
+    write_file_atomic((out_dir / (table->id + "-" + file + ".csv")).string(), csv);
   }
   std::cout << markdown << std::flush;
   fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, jobs.size(),

@@ -61,6 +61,7 @@ struct TableSweep {
   // The paper's values, [block][row][column], seconds; kPaperTimeout = the paper's "X".
   std::vector<std::vector<std::vector<double>>> paper;
   double paper_timeout_s = 0.0;    // the paper's time limit behind "X"
+  bool median = false;             // cells are medians over the instances (seed 002 Table 2), not means
 };
 
 struct PaperTable {

@@ -26,9 +26,9 @@ std::string ours_text(const SweepCell& c) {
   if (c.n == 0) return std::string(kMissing);
   std::string s;
   if (c.all_stopped())
-    s = fmt::format("X (≥{})", format_significant(c.mean_s));
+    s = fmt::format("X (≥{})", format_significant(c.value));
   else
-    s = fmt::format("{}{}", c.censored() ? "≥" : "", format_significant(c.mean_s));
+    s = fmt::format("{}{}", c.censored() ? "≥" : "", format_significant(c.value));
   if (c.falsified < c.n) s += fmt::format(" [{}/{}]", c.falsified, c.n);
   return s;
 }
@@ -64,6 +64,7 @@ SweepReport make_sweep_report(const PaperTable& table,
   r.suite = table.suite;
   r.notes = table.notes;
   r.paper_timeout_s = sw.paper_timeout_s;
+  r.median = sw.median;
   for (const PaperRow& row : table.rows) {
     r.rows.push_back(row.label);
     r.methods.push_back(row.method);
@@ -98,6 +99,7 @@ SweepReport make_sweep_report(const PaperTable& table,
         const SampleSummary s = summarize(times);
         cell.mean_s = s.mean;
         cell.median_s = s.median;
+        cell.value = sw.median ? s.median : s.mean;
       }
     }
     // Orderings per run column: the paper's "X" counts as its time limit, ours as the mean.
@@ -106,7 +108,7 @@ SweepReport make_sweep_report(const PaperTable& table,
       for (std::size_t i = 0; i < table.rows.size(); ++i) {
         const SweepCell& cell = r.cells[b][i][c];
         paper.push_back(std::isinf(cell.paper) ? sw.paper_timeout_s : cell.paper);
-        ours.push_back(cell.mean_s);
+        ours.push_back(cell.value);
       }
       r.orderings[b].push_back(check_ordering(paper, ours, c));
     }
@@ -134,10 +136,10 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
     md += fmt::format("- notes: {}\n", notes);
   }
   md += fmt::format(
-      "\nCells: mean wall time in seconds over the cell's trials (one per instance). X: every trial was stopped by "
-      "the time limit or node cap (ours: ≥ the mean time they ran); ≥: some were, so the mean is a lower bound; "
+      "\nCells: {} wall time in seconds over the cell's trials (one per instance). X: every trial was stopped by "
+      "the time limit or node cap (ours: ≥ the time they ran); ≥: some were, so the value is a lower bound; "
       "[k/n]: k of n trials falsified. Paper: X = timeout at {} s.\n",
-      r.paper_timeout_s);
+      r.median ? "median" : "mean", r.paper_timeout_s);
   std::size_t run = 0;
   for (std::size_t c = 0; c < r.columns.size(); ++c)
     if (!r.cells.empty() && !r.cells[0].empty() && r.cells[0][0][c].run) run = c + 1;
@@ -167,7 +169,7 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
         const SweepCell& x = r.cells[b][i][c];
         if (!std::isnan(x.paper) && (pb == r.rows.size() || x.paper < r.cells[b][pb][c].paper)) pb = i;
         const bool ok = x.n > 0 && !x.all_stopped();
-        if (ok && (ob == r.rows.size() || x.mean_s < r.cells[b][ob][c].mean_s)) ob = i;
+        if (ok && (ob == r.rows.size() || x.value < r.cells[b][ob][c].value)) ob = i;
       }
       const std::string ps = pb < r.rows.size() ? r.rows[pb] : "–", os = ob < r.rows.size() ? r.rows[ob] : "none";
       agree += ps == os ? 1 : 0;

@@ -20,6 +20,7 @@ struct SweepCell {
   // Wall seconds over the trials (errors excluded); a stopped trial counts with the time it had,
   // so a cell with stopped trials is a lower bound (censored()).
   double mean_s = kNotReported, median_s = kNotReported;
+  double value = kNotReported;  // what the table shows: mean_s, or median_s for a median table
   bool censored() const { return timeouts > 0 || node_caps > 0; }
   bool all_stopped() const { return n > 0 && timeouts + node_caps == n; }  // our "X"
 };
@@ -28,6 +29,7 @@ struct SweepReport {
   std::string id, title, source, suite, notes;
   std::vector<std::string> rows, methods, columns, blocks;
   double paper_timeout_s = 0.0;
+  bool median = false;
   std::vector<std::vector<std::vector<SweepCell>>> cells;      // [block][row][column]
   std::vector<std::vector<OrderingCheck>> orderings;           // [block][column], run columns
 };

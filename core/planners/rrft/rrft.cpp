@@ -330,6 +330,9 @@ class Rrft final : public Planner {
     out.metrics["nodes_per_tree"] = per_tree;
     out.metrics["winning_seed"] = winner ? static_cast<std::int64_t>(winner->index) : std::int64_t{-1};
     out.metrics["winning_parameter"] = winner ? Json(winner->p) : Json(nullptr);
+    // Each coordinate also as a scalar (p0, p1, ...), so tables can average it over trials.
+    if (winner)
+      for (std::size_t i = 0; i < winner->p.size(); ++i) out.metrics["winning_p" + std::to_string(i)] = winner->p[i];
     out.metrics["dispersion_final"] = mu;
     out.metrics["terminated_growth"] = terminated[static_cast<int>(TreeEnd::growth)];
     out.metrics["terminated_coverage"] = terminated[static_cast<int>(TreeEnd::coverage)];
