@@ -10,6 +10,7 @@ const std::vector<SuiteEntry>& all_suites() {
       hovercraft_suite(),
       guard_intruder_suite(),
       navigation_suite(),
+      aircraft_suite(),
   };
   return suites;
 }
