@@ -11,6 +11,7 @@ const std::vector<SuiteEntry>& all_suites() {
       guard_intruder_suite(),
       navigation_suite(),
       blimp_suite(),
+      aircraft_suite(),
   };
   return suites;
 }

@@ -14,6 +14,7 @@ SuiteEntry hovercraft_suite();
 SuiteEntry guard_intruder_suite();
 SuiteEntry navigation_suite();
 SuiteEntry blimp_suite();
+SuiteEntry aircraft_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 const SuiteEntry* find_suite(std::string_view name);
