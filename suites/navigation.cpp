@@ -16,7 +16,10 @@
 //           θ' = r (ω_r - ω_l) / L, ω_l' = u0, ω_r' = u1
 //           r = 0.2 m, L = 0.8 m, |ω_l|, |ω_r| <= 5°/s, |u0|, |u1| <= 10°/s²
 //   Taken literally, SDDrive's 5°/s wheels give a top speed r ω_max = 1.75 cm/s and a top turn
-//   rate 2.5°/s: an SDDrive terrain takes about a minute to cross. We keep the paper's numbers.
+//   rate 2.5°/s: an SDDrive terrain would take about a minute to cross, 40 times slower than the
+//   other two vehicles, and every SDDrive terrain a wall for the planners. We read the wheel
+//   limits as 5 rad/s and 10 rad/s² (top speed 1 m/s, top turn rate 2.5 rad/s, like SCar and
+//   SUni); `sddrive_wheel_unit=deg` gives the printed °/s, °/s².
 // The bounds on (a, b) are part of the mode's invariant, not a saturation in the flow: a
 // saturated right-hand side has a kink where fixed-step RK4 loses its order, and the witness
 // validator (adaptive Dormand-Prince) would then disagree with the tree by O(ε²). With the
@@ -73,7 +76,7 @@
 //
 // Choices for the planners (the paper gives none; kept here, in one place):
 //  - terrain_size s = 1 m (the unit cells of Fehnker & Ivančić's benchmark). From rest, SCar
-//    crosses 1 m in 1.6 s, SUni in 2.6 s, SDDrive in about a minute (see above).
+//    crosses 1 m in 1.6 s, SUni in 2.6 s, SDDrive in 1.3 s (a minute with the printed °/s).
 //  - T = step = 1 s per extension; ε = integration_step = 0.01 s, fixed-step RK4 (the fastest
 //    rate, SCar's θ' <= 3 tan 40° / 0.8 = 3.1 rad/s, bounds the RK4 error at ~1e-8 over an
 //    extension, well inside the 1e-6 witness tolerance; RRT witnesses re-simulate to ~1e-12).
@@ -117,7 +120,7 @@ constexpr double kBoundSlack = 1.0 + 1e-9;  // relative slack on the |a|, |b| bo
 constexpr NavVehicleLimits kLimits[3] = {
     {3.0, 40.0 * kDeg, 0.8, 25.0 * kDeg},         // SCar: v, φ; u0 m/s², u1 rad/s
     {3.0, 20.0 * kDeg, 0.3, 10.0 * kDeg},         // SUni: v, ω; u0 m/s², u1 rad/s²
-    {5.0, 5.0, 10.0, 10.0},                       // SDDrive: ω_l, ω_r rad/s; u rad/s² (see header)
+    {5.0, 5.0, 10.0, 10.0},                       // SDDrive: ω_l, ω_r rad/s; u rad/s² (read as rad: see header)
 };
 constexpr NavVehicleLimits kSDDriveDegrees = {5.0 * kDeg, 5.0 * kDeg, 10.0 * kDeg, 10.0 * kDeg};
 

@@ -452,6 +452,12 @@ void falsify(const char* method, std::uint64_t seed) {
   int conflicts = 0;
   for (const auto& piece : out.trajectory->pieces) conflicts += piece.transition >= 2 * 5;
   EXPECT_GE(conflicts, 1);  // the collision follows at least one avoid manoeuvre
+  // Every wind is an element of Ū = {−w, 0, w}² (HyDICE's inputs=auto draws from Ū here: the
+  // aircraft's inputs do not depend on the state).
+  const double wind = 0.03;  // esposito5
+  for (const auto& piece : out.trajectory->pieces)
+    for (const double ui : piece.u)
+      EXPECT_TRUE(ui == -wind || ui == 0.0 || ui == wind) << method << " drew u = " << ui;
 }
 
 TEST(AircraftPlanners, HydiceWitnessValidates) { falsify("hydice", 7); }

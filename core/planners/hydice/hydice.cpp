@@ -26,9 +26,15 @@
 //    the search greedy. Regions with no path to an unsafe one (hops = inf) are never queued.
 //  - v_safe's edges go to the regions of the initial states (every initial state is a root of
 //    the one tree, so a witness may start from any of them).
-//  - Inputs: `controls` inputs drawn uniformly from the admissible box at the selected state
-//    (System::input_bounds: the navigation drivers' intervals of Sect. 4.1.2, U otherwise),
-//    each applied for the suite's δt (SystemInfo::step_duration); with controls > 1 the end
+//  - Inputs (`inputs`): `box` draws u uniformly from the admissible box at the selected state
+//    (System::input_bounds: the navigation drivers' intervals of Sect. 4.1.2, U otherwise);
+//    `set` draws a random element of the suite's Ū (mapped onto that box by InputGrid, as every
+//    other planner sees it); `auto` (default) = box for state-dependent inputs (a driver model is
+//    a random draw from its interval by definition) and set otherwise (the suite's
+//    discretization is its choice: aircraft wind at {−w, 0, w}², whose persistent extremes drive
+//    the conflicts — uniform draws from [−w, w]² timed out in 20 s on every random N = 10 trial
+//    where Ū solves them in well under a second). Each input is applied for the suite's δt
+//    (SystemInfo::step_duration); with controls > 1 the end
 //    state nearest (on the projection) to the centre of the next lead region is kept — a
 //    steering step the paper does not have; controls = 1 (the default) is the paper's.
 //  - State selection: cell ∝ 1/nsel² with nsel = selections so far + 1; then a state of the cell
@@ -49,6 +55,7 @@
 
 #include <fmt/format.h>
 
+#include "core/inputs.hpp"
 #include "core/tree.hpp"
 
 namespace hyfal {
@@ -232,6 +239,7 @@ struct HydiceOptions {
   double shortest_probability = 0.9;
   double lead_heuristic = 1.0;
   std::int64_t controls = 1;
+  enum class Inputs { automatic, set, box } inputs = Inputs::automatic;
   HydiceExponents e;
 };
 
@@ -243,6 +251,11 @@ HydiceOptions parse_options(const Json& o, bool leads) {
   h.e.tau = o.at("tau").get<double>();
   h.controls = o.at("controls").get<std::int64_t>();
   if (h.controls < 1 || h.controls > 1024) throw std::invalid_argument("hydice: controls must be in [1, 1024]");
+  const std::string inputs = o.at("inputs").get<std::string>();
+  if (inputs == "auto") h.inputs = HydiceOptions::Inputs::automatic;
+  else if (inputs == "set") h.inputs = HydiceOptions::Inputs::set;
+  else if (inputs == "box") h.inputs = HydiceOptions::Inputs::box;
+  else throw std::invalid_argument(fmt::format("hydice: inputs must be auto, set or box (got '{}')", inputs));
   if (leads) {
     h.t_sigma = o.at("t_sigma").get<std::int64_t>();
     h.shortest_probability = o.at("shortest_probability").get<double>();
@@ -358,6 +371,9 @@ class Hydice final : public Planner {
     const double unreached_edge_cost = 1.0 / std::pow(std::pow(dec->volume(start_regions.front()), o_.e.nu), 2.0);
 
     std::vector<double> x_new(n), x_try(n), cell_w, ulo(m), uhi(m), u(m), u_best(m);
+    const bool draw_box = o_.inputs == HydiceOptions::Inputs::box ||
+                          (o_.inputs == HydiceOptions::Inputs::automatic && sys.state_dependent_inputs());
+    InputGrid grid(sys);
     std::vector<RegionId> current_lead, nb;
     std::unordered_map<RegionId, std::size_t> lead_position;
     // Where to steer from region r: the region after r on the current lead; off the lead (or
@@ -426,13 +442,19 @@ class Hydice final : public Planner {
         // box at x_s (the driver), keeping the end state nearest the steering target.
         const Mode q = tree.info(s).mode;
         const auto x_s = tree.state(s);
-        sys.input_bounds(q, x_s, ulo, uhi);
+        if (draw_box) sys.input_bounds(q, x_s, ulo, uhi);
+        else grid.at(q, x_s);
         std::array<double, 2> target{std::numeric_limits<double>::quiet_NaN(), 0.0};
         if (o_.controls > 1) target = steering_target(*dec, selected, rng, nb);
         double best = std::numeric_limits<double>::infinity();
         PropagationResult best_r;
         for (std::int64_t j = 0; j < o_.controls; ++j) {
-          for (std::size_t i = 0; i < m; ++i) u[i] = ulo[i] + unit(rng) * (uhi[i] - ulo[i]);
+          if (draw_box) {
+            for (std::size_t i = 0; i < m; ++i) u[i] = ulo[i] + unit(rng) * (uhi[i] - ulo[i]);
+          } else {
+            const auto g = grid.input(std::uniform_int_distribution<std::size_t>(0, grid.count() - 1)(rng));
+            std::copy(g.begin(), g.end(), u.begin());
+          }
           const PropagationResult r = prop->propagate(q, x_s, u, p, info.step_duration, x_try);
           ++rd.propagations;
           ++c.propagations;
@@ -477,7 +499,8 @@ class Hydice final : public Planner {
 };
 
 std::vector<OptionSpec> exponent_options() {
-  return {{"controls", 1, "inputs drawn (uniformly from the admissible box) per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)"},
+  return {{"controls", 1, "inputs drawn per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)"},
+          {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (box for driver models, set otherwise)"},
           {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
           {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)"},
           {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)"}};
