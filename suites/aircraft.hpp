@@ -75,6 +75,7 @@ struct AircraftSystemOptions {
   double step = 20.0;
   double max_step = 0.5;
   int input_levels = 3;
+  double lookahead = 20.0;  // HyDICE decomposition: horizon of the predicted closest approach, s
   Json instance = Json::object();  // SystemInfo::instance
 };
 std::shared_ptr<const System> make_aircraft_system(const AircraftScenario& scenario, const AircraftSystemOptions& o);

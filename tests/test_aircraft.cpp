@@ -432,6 +432,32 @@ TEST(AircraftSuite, DecompositionBandsOfMinimumSeparation) {
   EXPECT_FALSE(d.is_unsafe(d.region_of(q1, x)));
 }
 
+TEST(AircraftSuite, DecompositionLooksAheadToTheClosestApproach) {
+  // Head-on, 10 km apart at 0.6 km/s closing speed: they would meet after 16.7 s, inside a 20 s
+  // look-ahead (band 0, where a lead ends) but not inside 10 s (4 km left: band 4); a parallel
+  // pair 3.5 km apart stays 3.5 km apart.
+  AircraftSystemOptions o;
+  const auto s = scenario({{0, 0}, {10, 0}, {0, 300}, {0, 303.5}}, {{100, 0}, {-90, 0}, {100, 300}, {100, 303.5}});
+  double pr[2];
+  for (const double horizon : {20.0, 10.0, 0.0}) {
+    o.lookahead = horizon;
+    auto sys = make_aircraft_system(s, o);
+    const Decomposition& d = *sys->decomposition();
+    const auto& x = sys->info().initial_state;
+    d.project(0, x, std::span<double, 2>(pr, 2));
+    if (horizon == 20.0) {
+      EXPECT_NEAR(pr[1], 0.0, 1e-9);
+      EXPECT_TRUE(d.is_unsafe(d.region_of(0, x)));
+    } else if (horizon == 10.0) {
+      EXPECT_NEAR(pr[1], 3.5, 1e-9);  // the parallel pair is now the closest: 4 km > 3.5 km
+      EXPECT_EQ(d.region_of(0, x), 3u);
+    } else {
+      EXPECT_NEAR(pr[1], 3.5, 1e-9);
+    }
+    EXPECT_EQ(d.hops_to_unsafe(d.region_of(0, x)), static_cast<double>(d.region_of(0, x)));
+  }
+}
+
 // --- planners --------------------------------------------------------------------------------------
 
 void falsify(const char* method, std::uint64_t seed) {
