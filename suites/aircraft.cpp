@@ -135,7 +135,12 @@
 //    A grid over (t, separation) was tried first: its leads ran through unreachable regions
 //    (small separations at early times) and HyDICE timed out on random N = 10.
 //
-// Measured (this machine, 2 shared cores, one thread per trial): MEASURED-PLACEHOLDER
+// Measured (this machine, 2 cores, one thread per trial, two trials at a time; `hyfal reproduce
+// plaku-table2 --profile quick`, 2026-11-22): median time over instance seeds 0-4, 30 s limit —
+// HyDICE 0.86 s [3/5] / 0.51 s [4/5] / 1.49 s [5/5] for N = 10 / 15 / 20 (paper 30.35 / 42.67 /
+// 77.61 s), RRT ≥ 17.9 [3/5] / 7.2 [4/5] / ≥ 11.7 [3/5], RRT[D*] ≥ 30 [2/5] / 8.3 [4/5] / ≥ 30
+// [2/5]; the 5-aircraft crossing: every method in 0.04-0.1 s. RRFT on esposito5 (10 trials):
+// median 639 nodes, 4 seeds (the first Halton seeds already succeed), 0.12 s.
 #include "suites/aircraft.hpp"
 
 #include <algorithm>
