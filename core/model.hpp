@@ -151,6 +151,11 @@ struct SystemInfo {
   std::vector<double> goal_point;      // µ of the biased sampler, a point with s <= 0 (seed 000 III.6)
   CoverageSpec coverage;
   double step_duration = 0.1;          // δt of one tree extension (seed 000 Sect. II-A)
+  // How a planner that draws random inputs (HyDICE) should draw them when not told otherwise:
+  // false = a random element of the discretized Ū (the suite's choice of levels), true =
+  // uniformly over the admissible box (the paper's model draws continuous inputs, e.g. the
+  // drivers of seed 002 Sect. 4.1.2).
+  bool continuous_random_inputs = false;
   IntegratorSettings integrator;
   double witness_tolerance = 1e-6;     // validation tolerance on states and on s
   std::size_t dim() const { return initial_state.size(); }

@@ -634,6 +634,7 @@ std::shared_ptr<const System> make_navigation(const Json& instance) {
   info.goal_point = {cu[0], cu[1], 0.0, 0.0, 0.0};
   info.coverage = {{0, 1}, {{0.0, 0.0}, {extent, extent}}, extent / std::min(4 * p.n, 1024)};
   info.step_duration = p.step;
+  info.continuous_random_inputs = true;  // the drivers draw u uniformly from their intervals (Sect. 4.1.2)
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = p.integration_step;
   info.integrator.max_step = p.integration_step;

@@ -479,7 +479,7 @@ void falsify(const char* method, std::uint64_t seed) {
   for (const auto& piece : out.trajectory->pieces) conflicts += piece.transition >= 2 * 5;
   EXPECT_GE(conflicts, 1);  // the collision follows at least one avoid manoeuvre
   // Every wind is an element of Ū = {−w, 0, w}² (HyDICE's inputs=auto draws from Ū here: the
-  // aircraft's inputs do not depend on the state).
+  // suite does not declare continuous random inputs).
   const double wind = 0.03;  // esposito5
   for (const auto& piece : out.trajectory->pieces)
     for (const double ui : piece.u)

@@ -29,8 +29,9 @@
 //  - Inputs (`inputs`): `box` draws u uniformly from the admissible box at the selected state
 //    (System::input_bounds: the navigation drivers' intervals of Sect. 4.1.2, U otherwise);
 //    `set` draws a random element of the suite's Ū (mapped onto that box by InputGrid, as every
-//    other planner sees it); `auto` (default) = box for state-dependent inputs (a driver model is
-//    a random draw from its interval by definition) and set otherwise (the suite's
+//    other planner sees it); `auto` (default) = what the suite declares
+//    (SystemInfo::continuous_random_inputs): box for navigation (every driver of Sect. 4.1.2,
+//    RandomDriver included, draws u uniformly from an interval), set otherwise (the suite's
 //    discretization is its choice: aircraft wind at {−w, 0, w}², whose persistent extremes drive
 //    the conflicts — uniform draws from [−w, w]² timed out in 20 s on every random N = 10 trial
 //    where Ū solves them in well under a second). Each input is applied for the suite's δt
@@ -372,7 +373,7 @@ class Hydice final : public Planner {
 
     std::vector<double> x_new(n), x_try(n), cell_w, ulo(m), uhi(m), u(m), u_best(m);
     const bool draw_box = o_.inputs == HydiceOptions::Inputs::box ||
-                          (o_.inputs == HydiceOptions::Inputs::automatic && sys.state_dependent_inputs());
+                          (o_.inputs == HydiceOptions::Inputs::automatic && info.continuous_random_inputs);
     InputGrid grid(sys);
     std::vector<RegionId> current_lead, nb;
     std::unordered_map<RegionId, std::size_t> lead_position;
@@ -500,7 +501,7 @@ class Hydice final : public Planner {
 
 std::vector<OptionSpec> exponent_options() {
   return {{"controls", 1, "inputs drawn per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)"},
-          {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (box for driver models, set otherwise)"},
+          {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (as the suite declares: box for navigation's drivers, set otherwise)"},
           {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
           {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)"},
           {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)"}};
