@@ -77,7 +77,10 @@
 // Choices for the planners (the paper gives none; kept here, in one place):
 //  - terrain_size s = 1 m (the unit cells of Fehnker & Ivančić's benchmark). From rest, SCar
 //    crosses 1 m in 1.6 s, SUni in 2.6 s, SDDrive in 1.3 s (a minute with the printed °/s).
-//  - T = step = 1 s per extension; ε = integration_step = 0.01 s, fixed-step RK4 (the fastest
+//  - T = step = 2 s per extension (about one terrain crossed at full speed; the drivers cap the
+//    speed, so a shorter T needs more extensions per terrain: HyDICE at 1024², property 0, one
+//    core: T = 1 s timed out in 300 s under Student and Highway (3.2-3.6M nodes), T = 2 s
+//    solved them in 56 s and 39 s CPU); ε = integration_step = 0.01 s, fixed-step RK4 (the fastest
 //    rate, SCar's θ' <= 3 tan 40° / 0.8 = 3.1 rad/s, bounds the RK4 error at ~1e-8 over an
 //    extension, well inside the 1e-6 witness tolerance; RRT witnesses re-simulate to ~1e-12).
 //  - x_rand: (x, y) over the whole environment, θ in [-π, π] (θ is not wrapped), a in [-3, 3],
@@ -737,7 +740,7 @@ PaperTable plaku_table1() {
       "differ. SDDrive's wheel limits are read as 5 rad/s and 10 rad/s² (the printed °/s would make it cross a "
       "1 m terrain in a minute; sddrive_wheel_unit=deg restores them). HyDICE uses the suite's decomposition "
       "(2 x 2 regions per terrain), ν, ζ, τ = 1, 2, 0.5 and t_σ = 100 propagations (see core/planners/hydice). "
-      "The paper's times are from a 2011 machine with GSL's RK8 integrator; ours use RK4, ε = 0.01 s.";
+      "The paper's times are from a 2011 machine with GSL's RK8 integrator; ours use RK4, ε = 0.01 s, T = 2 s per extension.";
   return t;
 }
 
@@ -751,7 +754,7 @@ SuiteEntry navigation_suite() {
            {"driver", "random", "driver model: random | student | highway (for planners that use it)"},
            {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39"},
            {"terrain_size", 1.0, "side of one terrain, m"},
-           {"step", 1.0, "duration T of one tree extension, s"},
+           {"step", 2.0, "duration T of one tree extension, s"},
            {"integration_step", 0.01, "RK4 step ε, s"},
            {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"},
            {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)"}},
