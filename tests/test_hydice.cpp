@@ -343,7 +343,8 @@ TEST(NavigationDriverInputs, GridMapsOntoTheDriverIntervalAndValidatorChecksIt) 
   // A HyDICE witness under StudentDriver validates; with one input moved outside the driver's
   // interval (still inside U) it does not.
   const int property = short_property(8, 1);
-  auto s8 = make({{"n", "8"}, {"driver", "student"}, {"property", std::to_string(property)}});
+  // T = 1 s: a longer witness, so that some piece starts where the driver narrows U.
+  auto s8 = make({{"n", "8"}, {"driver", "student"}, {"property", std::to_string(property)}, {"step", "1"}});
   auto planner = find_method("hydice")->make(resolve_options(find_method("hydice")->options, {}));
   const PlannerOutcome out = planner->solve(PlannerContext{*s8, s8->info().parameters, 7, PlannerLimits{8.0, 2'000'000}, {}});
   ASSERT_EQ(out.status, TrialStatus::falsified);

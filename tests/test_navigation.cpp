@@ -444,7 +444,7 @@ TEST(NavigationSuite, BadValuesThrow) {
   EXPECT_THROW(make({{"driver", "racer"}}), std::invalid_argument);
   EXPECT_THROW(make({{"terrain_size", "0"}}), std::invalid_argument);
   EXPECT_THROW(make({{"step", "-1"}}), std::invalid_argument);
-  EXPECT_THROW(make({{"integration_step", "2.0"}}), std::invalid_argument);
+  EXPECT_THROW(make({{"integration_step", "3.0"}}), std::invalid_argument);
   EXPECT_THROW(make({{"input_levels", "1"}}), std::invalid_argument);
   EXPECT_NO_THROW(make({{"driver", "student"}, {"property", "39"}}));
 }
