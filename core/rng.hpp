@@ -38,4 +38,37 @@ constexpr std::int64_t trial_seed(std::uint64_t master, std::string_view suite,
   return static_cast<std::int64_t>(h >> 1);
 }
 
+// A SplitMix64 stream for instance generators (mazes, random scenarios): platform-independent,
+// unlike the std distributions over Rng, so an instance seed means the same instance on every
+// machine; one stream per purpose, so adding draws for one purpose leaves the others unchanged.
+class InstanceStream {
+ public:
+  InstanceStream(std::uint64_t seed, std::string_view purpose) : s_(splitmix64(seed ^ fnv1a(purpose))) {}
+  std::uint64_t next() {
+    s_ += 0x9e3779b97f4a7c15ULL;
+    std::uint64_t z = s_;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  // Uniform in [0, range), unbiased (Lemire 2019).
+  std::uint64_t below(std::uint64_t range) {
+    unsigned __int128 m = static_cast<unsigned __int128>(next()) * range;
+    auto low = static_cast<std::uint64_t>(m);
+    if (low < range) {
+      const std::uint64_t t = (0 - range) % range;
+      while (low < t) {
+        m = static_cast<unsigned __int128>(next()) * range;
+        low = static_cast<std::uint64_t>(m);
+      }
+    }
+    return static_cast<std::uint64_t>(m >> 64);
+  }
+  double uniform01() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform01(); }
+
+ private:
+  std::uint64_t s_;
+};
+
 }  // namespace hyfal

@@ -170,23 +170,6 @@ constexpr double kFar = 1e3;  // s when fewer than two aircraft fly, km
 
 double wrap(double a) { return std::remainder(a, 2 * kPi); }  // into [−π, π]
 
-// A SplitMix64 stream: platform-independent (as in suites/navigation.cpp, kept local).
-class Stream {
- public:
-  Stream(std::uint64_t seed, std::string_view purpose) : s_(splitmix64(seed ^ fnv1a(purpose))) {}
-  std::uint64_t next() {
-    s_ += 0x9e3779b97f4a7c15ULL;
-    std::uint64_t z = s_;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform01() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform01(); }
-
- private:
-  std::uint64_t s_;
-};
 
 // Position at time t on the half circle that starts at (x, y) with heading th and turn rate om.
 std::array<double, 2> on_circle(const std::array<double, 3>& s, double th, double om, double v, double t) {
@@ -204,7 +187,7 @@ AircraftScenario aircraft_random_scenario(int n, double p, std::uint64_t seed) {
   AircraftScenario s;
   const int h = n / 2;
   const double gap = (2.85 + 0.04 * (n - 10)) * p;
-  Stream rng(seed, "aircraft/random-instance");
+  InstanceStream rng(seed, "aircraft/random-instance");
   for (int i = 1; i <= n; ++i) {
     const bool top = i <= h;
     const int slot = top ? i - 1 : i - h - 1;

@@ -127,35 +127,6 @@ constexpr NavVehicleLimits kLimits[3] = {
 };
 constexpr NavVehicleLimits kSDDriveDegrees = {5.0 * kDeg, 5.0 * kDeg, 10.0 * kDeg, 10.0 * kDeg};
 
-// A SplitMix64 stream: platform-independent, one per purpose.
-class Stream {
- public:
-  Stream(std::uint64_t seed, std::string_view purpose) : s_(splitmix64(seed ^ fnv1a(purpose))) {}
-  std::uint64_t next() {
-    s_ += 0x9e3779b97f4a7c15ULL;
-    std::uint64_t z = s_;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  // Uniform in [0, range), unbiased (Lemire 2019).
-  std::uint64_t below(std::uint64_t range) {
-    unsigned __int128 m = static_cast<unsigned __int128>(next()) * range;
-    auto low = static_cast<std::uint64_t>(m);
-    if (low < range) {
-      const std::uint64_t t = (0 - range) % range;
-      while (low < t) {
-        m = static_cast<unsigned __int128>(next()) * range;
-        low = static_cast<std::uint64_t>(m);
-      }
-    }
-    return static_cast<std::uint64_t>(m >> 64);
-  }
-  double uniform01() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-
- private:
-  std::uint64_t s_;
-};
 
 NavSide side_of(int k) { return static_cast<NavSide>(k); }
 
@@ -210,7 +181,7 @@ NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, doubl
   g.vehicles_.assign(words, 0);
   g.open_.assign(words, 0);
 
-  Stream vehicles(seed, "navigation/vehicles");
+  InstanceStream vehicles(seed, "navigation/vehicles");
   for (std::uint32_t q = 0; q < count; ++q)
     g.vehicles_[q >> 5] |= vehicles.below(3) << ((q & 31) * 2);
 
@@ -221,7 +192,7 @@ NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, doubl
       if (q % un + 1 < un) walls.push_back(2 * q);
       if (q / un + 1 < un) walls.push_back(2 * q + 1);
     }
-    Stream order(seed, "navigation/wall-order");
+    InstanceStream order(seed, "navigation/wall-order");
     for (std::size_t i = walls.size() - 1; i > 0; --i) std::swap(walls[i], walls[order.below(i + 1)]);
     std::vector<std::uint32_t> parent(count);
     std::vector<std::uint8_t> rank(count, 0);
@@ -244,7 +215,7 @@ NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, doubl
   }
 
   if (keep_probability < 1.0) {  // each remaining wall is kept with probability p
-    Stream keep(seed, "navigation/wall-keep");
+    InstanceStream keep(seed, "navigation/wall-keep");
     for (std::uint32_t q = 0; q < count; ++q)
       for (std::uint32_t d = 0; d < 2; ++d) {
         const bool exists = d == 0 ? q % un + 1 < un : q / un + 1 < un;
@@ -253,7 +224,7 @@ NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, doubl
       }
   }
 
-  Stream props(seed, "navigation/properties");
+  InstanceStream props(seed, "navigation/properties");
   for (auto& p : g.properties_) {
     p.start = static_cast<std::uint32_t>(props.below(count));
     p.unsafe = static_cast<std::uint32_t>(props.below(count - 1));
