@@ -168,6 +168,39 @@ const TableProfile& profile_of(const PaperTable& table, const std::string& name)
   throw UsageError(fmt::format("--profile {}: expected smoke, quick or paper", name));
 }
 
+// Runs the trials of `groups` (in this order) that the store does not hold yet, all in one pool;
+// groups that resolve to the same trials (same instance, method and config) share them.
+struct TableTrials {
+  EngineOptions engine;
+  std::size_t total = 0, run_now = 0, errors = 0;
+};
+TableTrials run_table_trials(const std::vector<const TrialGroup*>& groups, TrialStore& store, const ReproduceArgs& a,
+                             int trials_per_group) {
+  std::vector<TrialJob> jobs;
+  std::size_t stored_count = 0;
+  std::set<std::string> seen;
+  for (const TrialGroup* g : groups) {
+    const TrialKey& k = g->base;
+    if (!seen.insert(Json::array({k.suite, k.instance, k.method, k.config}).dump()).second) continue;
+    auto group_jobs = prepare_jobs(*g, store.stored_trial_indices(k));
+    stored_count += static_cast<std::size_t>(trials_per_group) - group_jobs.size();
+    for (auto& j : group_jobs) jobs.push_back(std::move(j));
+  }
+  TableTrials t{make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0)};
+  t.total = seen.size() * static_cast<std::size_t>(trials_per_group);
+  t.run_now = jobs.size();
+  if (stored_count > 0)
+    fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, t.total, a.db);
+  run_trials(jobs, t.engine, [&](const TrialRecord& r) {
+    store.insert(r);
+    if (r.status == TrialStatus::error) {
+      ++t.errors;
+      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
+    }
+  });
+  return t;
+}
+
 ReportHeader make_header(const ReproduceArgs& a, const TableProfile& profile, const EngineOptions& eo,
                          const std::string& experiment) {
   ReportHeader h;
@@ -238,29 +271,10 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
   std::vector<std::size_t> order(cells.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cells[x].col > cells[y].col; });
-  std::vector<TrialJob> jobs;
-  std::size_t stored_count = 0;
-  std::set<std::string> seen;
-  for (const std::size_t i : order) {
-    const TrialKey& k = cells[i].group.base;
-    if (!seen.insert(Json::array({k.suite, k.instance, k.method, k.config}).dump()).second) continue;
-    auto cell_jobs = prepare_jobs(cells[i].group, store.stored_trial_indices(k));
-    stored_count += static_cast<std::size_t>(profile.trials) - cell_jobs.size();
-    for (auto& j : cell_jobs) jobs.push_back(std::move(j));
-  }
-  const std::size_t total = seen.size() * static_cast<std::size_t>(profile.trials);
-  if (stored_count > 0)
-    fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, total, a.db);
-
-  const EngineOptions eo = make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0);
-  std::size_t errors = 0;
-  run_trials(jobs, eo, [&](const TrialRecord& r) {
-    store.insert(r);
-    if (r.status == TrialStatus::error) {
-      ++errors;
-      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
-    }
-  });
+  std::vector<const TrialGroup*> ordered;
+  for (const std::size_t i : order) ordered.push_back(&cells[i].group);
+  const TableTrials run_info = run_table_trials(ordered, store, a, profile.trials);
+  const EngineOptions& eo = run_info.engine;
 
   std::vector<std::vector<std::vector<std::vector<TrialRecord>>>> trials(
       blocks, std::vector<std::vector<std::vector<TrialRecord>>>(table.rows.size(),
@@ -277,9 +291,9 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
   write_file_atomic((out_dir / (table.id + ".md")).string(), markdown);
   write_file_atomic((out_dir / (table.id + ".csv")).string(), to_csv(report, header));
   std::cout << markdown << std::flush;
-  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, jobs.size(),
-             (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
-  return errors ? 1 : 0;
+  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info.total,
+             run_info.run_now, (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
+  return run_info.errors ? 1 : 0;
 }
 
 }  // namespace
@@ -335,32 +349,10 @@ int cmd_reproduce(const ReproduceArgs& a) {
   }
 
   TrialStore store = TrialStore::open(a.db);
-  // Rows that resolve to the same trials (same instance, method and config) share them.
-  std::map<std::string, std::size_t> first_row_of_key;
-  std::vector<TrialJob> jobs;
-  std::size_t stored_count = 0;
-  for (std::size_t r = 0; r < groups.size(); ++r) {
-    const TrialKey& k = groups[r].base;
-    const std::string key = Json::array({k.suite, k.instance, k.method, k.config}).dump();
-    if (!first_row_of_key.emplace(key, r).second) continue;
-    const auto stored = store.stored_trial_indices(k);
-    auto row_jobs = prepare_jobs(groups[r], stored);
-    stored_count += static_cast<std::size_t>(profile.trials) - row_jobs.size();
-    for (auto& j : row_jobs) jobs.push_back(std::move(j));
-  }
-  const std::size_t total = first_row_of_key.size() * static_cast<std::size_t>(profile.trials);
-  if (stored_count > 0)
-    fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, total, a.db);
-
-  const EngineOptions eo = make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0);
-  std::size_t errors = 0;
-  run_trials(jobs, eo, [&](const TrialRecord& r) {  // every row's jobs in one pool
-    store.insert(r);
-    if (r.status == TrialStatus::error) {
-      ++errors;
-      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
-    }
-  });
+  std::vector<const TrialGroup*> ordered;
+  for (const TrialGroup& g : groups) ordered.push_back(&g);
+  const TableTrials run_info = run_table_trials(ordered, store, a, profile.trials);
+  const EngineOptions& eo = run_info.engine;
 
   std::vector<std::vector<TrialRecord>> rows_trials(groups.size());
   for (auto& record : store.load(experiment))
@@ -387,9 +379,9 @@ int cmd_reproduce(const ReproduceArgs& a) {
     write_file_atomic((out_dir / (table->id + "-" + file + ".csv")).string(), csv);
   }
   std::cout << markdown << std::flush;
-  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, jobs.size(),
-             (out_dir / (table->id + ".md")).string(), (out_dir / (table->id + ".csv")).string(), a.db);
-  return errors ? 1 : 0;
+  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info.total,
+             run_info.run_now, (out_dir / (table->id + ".md")).string(), (out_dir / (table->id + ".csv")).string(), a.db);
+  return run_info.errors ? 1 : 0;
 }
 
 }  // namespace hyfal::cli
