@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -35,10 +36,13 @@ namespace {
 using cli::UsageError;
 
 std::string read_file(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("'{}' is a directory, not a file", path));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot read '{}'", path));
+  if (!in) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
   std::ostringstream ss;
   ss << in.rdbuf();
+  if (in.bad()) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
   return ss.str();
 }
 
@@ -179,16 +183,14 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
 }
 
 // --- validate ---------------------------------------------------------------------------------
+// Exit 2 (bad input): the file cannot be read, is not JSON, is not a witness (a missing,
+// mistyped or out-of-range field), names an unknown suite or instance, or does not fit the system
+// (sizes, modes, transitions: ValidationReport::malformed). Exit 1: a well-formed witness that
+// does not re-simulate to the unsafe set (INVALID on stdout).
 int cmd_validate(const std::string& file) {
-  Json j;
-  try {
-    j = Json::parse(read_file(file));
-  } catch (const Json::parse_error& e) {
-    throw UsageError(fmt::format("'{}' is not valid JSON: {}", file, e.what()));
-  }
   Witness w;
   try {
-    w = witness_from_json(j);
+    w = witness_from_text(read_file(file));
   } catch (const WitnessError& e) {
     throw UsageError(fmt::format("'{}': {}", file, e.what()));
   }
@@ -203,6 +205,7 @@ int cmd_validate(const std::string& file) {
     throw UsageError(fmt::format("'{}': bad instance: {}", file, e.what()));
   }
   const ValidationReport r = validate_witness(*system, w);
+  if (r.malformed) throw UsageError(fmt::format("'{}': not a witness of this {} instance: {}", file, w.suite, r.reason));
   fmt::print("{}: {}\n", r.valid ? "VALID" : "INVALID", r.reason);
   return r.valid ? 0 : 1;
 }

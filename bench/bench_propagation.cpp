@@ -92,6 +92,7 @@ class Car {
     dx[3] = u[0];
     dx[4] = u[1];
   }
+  bool valid_mode(Mode q) const { return q == 0; }
   int guard_count(Mode) const { return 0; }
   double guard(Mode, int, const double*, const double*) const { return -1.0; }
   Mode jump(Mode q, int, double*, const double*) const { return q; }

@@ -8,6 +8,9 @@
 //
 // Conventions (seed 002 Sect. 2, seed 000 Problem 2.2, seed 003 Def. 2):
 //  - A mode is a 64-bit id; multi-agent suites pack per-agent modes into it (ModePacking).
+//    valid_mode(q) says whether q is one of the model's modes (every field of a packed mode in
+//    range, unused high bits zero). Every other member may assume a valid q (they index tables
+//    with it), so a mode read from outside (a witness file) must pass valid_mode first.
 //  - Guard k of mode q is a function g_k(q, x; p); the transition is enabled iff g_k > 0.
 //    Transitions are urgent: the flow stops when a guard turns positive (localized to within
 //    event_time_tol, at the last time before it does), the reset jump(q, k, x; p) is applied
@@ -17,11 +20,14 @@
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event.
 #pragma once
 #include <algorithm>
+#include <chrono>
 #include <concepts>
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stop_token>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -84,6 +90,7 @@ template <class M>
 concept HybridModel = requires(const M m, Mode q, int k, const double* x, double* xm,
                                const double* u, const double* p, double* dx) {
   { m.dim() } -> std::convertible_to<int>;
+  { m.valid_mode(q) } -> std::same_as<bool>;
   { m.flow(q, x, u, p, dx) };
   { m.guard_count(q) } -> std::convertible_to<int>;
   { m.guard(q, k, x, p) } -> std::convertible_to<double>;
@@ -98,7 +105,16 @@ enum class PropagationEnd {
   jumped,     // stopped at an urgent transition and applied its reset
   invariant,  // stopped at the last state before the invariant failed
   unsafe,     // reached s <= 0 (localized)
-  rejected    // NaN/Inf or a Zeno chain of zero-time jumps: the result must not enter a tree
+  rejected    // NaN/Inf, a Zeno chain of zero-time jumps, or interrupted (PropagationInterrupt):
+              // the result must not enter a tree
+};
+
+// When a propagation must give up: a trial's deadline and its cancellation. A tiny integration
+// step (or a stiff flow under adaptive steps) can make one propagation outlast any trial budget,
+// so the budget is checked inside it too, not only between propagations.
+struct PropagationInterrupt {
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  std::stop_token stop;
 };
 
 struct PropagationResult {
@@ -114,6 +130,15 @@ struct PropagationResult {
 class Propagator {
  public:
   virtual ~Propagator() = default;
+  // From now on propagate() ends as `rejected` once the deadline has passed or a stop is
+  // requested, and every later propagate() at once (sticky: the trial is over). flow() is never
+  // interrupted: it re-flows pieces already found (witnesses).
+  void set_interrupt(PropagationInterrupt interrupt) {
+    interrupt_ = std::move(interrupt);
+    interrupted_ = false;
+    since_check_ = 0;
+  }
+  bool interrupted() const { return interrupted_; }
   // Flows (q, x) under constant u for at most `duration`; see PropagationEnd. out has dim().
   virtual PropagationResult propagate(Mode q, std::span<const double> x,
                                       std::span<const double> u, std::span<const double> p,
@@ -122,6 +147,25 @@ class Propagator {
   // of a witness. Returns the number of steps, or -1 when the state became non-finite.
   virtual std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u,
                             std::span<const double> p, double duration, std::span<double> out) = 0;
+
+ protected:
+  // Integration steps between two reads of the clock: a read costs about as much as a few RK4
+  // stages of a small model, so 1024 keeps the check well below 1 % of the work while a trial
+  // overruns its deadline by 1024 steps at most.
+  static constexpr int kInterruptInterval = 1024;
+  // Called once per integration step; true when the propagation must end now.
+  bool interrupt_due() {
+    if (interrupted_) return true;
+    if (++since_check_ < kInterruptInterval) return false;
+    since_check_ = 0;
+    interrupted_ = interrupt_.stop.stop_requested() || std::chrono::steady_clock::now() >= interrupt_.deadline;
+    return interrupted_;
+  }
+
+ private:
+  PropagationInterrupt interrupt_;
+  bool interrupted_ = false;
+  int since_check_ = 0;
 };
 
 // The grid G of the coverage measure c(T, G) (seed 000 eq. II.1, seed 003 eq. 3): spacing δx
@@ -150,7 +194,9 @@ struct SystemInfo {
   std::vector<double> metric_weights;  // rho(x, y) = sqrt(sum w_i (x_i - y_i)^2)
   std::vector<double> goal_point;      // µ of the biased sampler, a point with s <= 0 (seed 000 III.6)
   CoverageSpec coverage;
-  double step_duration = 0.1;          // δt of one tree extension (seed 000 Sect. II-A)
+  // δt of one tree extension (seed 000 Sect. II-A). Every method propagates a node for at most
+  // δt (core/planners/*), so it is also the longest piece a witness may have (validate_witness).
+  double step_duration = 0.1;
   // How a planner that draws random inputs (HyDICE) should draw them when not told otherwise:
   // false = a random element of the discretized Ū (the suite's choice of levels), true =
   // uniformly over the admissible box (the paper's model draws continuous inputs, e.g. the
@@ -166,6 +212,8 @@ class System {
  public:
   virtual ~System() = default;
   virtual const SystemInfo& info() const = 0;
+  // True when q is a mode of this system; every member taking a Mode requires one that is.
+  virtual bool valid_mode(Mode q) const = 0;
   virtual const InputSet& inputs(Mode q) const = 0;
   virtual std::string mode_name(Mode q) const { return std::to_string(q); }
   virtual void derivative(Mode q, std::span<const double> x, std::span<const double> u,

@@ -61,10 +61,7 @@ class Planner {
 // Why a search loop must stop now, if it must: the budget checks every planner shares.
 class SearchBudget {
  public:
-  explicit SearchBudget(const PlannerContext& ctx)
-      : ctx_(ctx), deadline_(std::chrono::steady_clock::now() +
-                             std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 std::chrono::duration<double>(ctx.limits.timeout_s))) {}
+  explicit SearchBudget(const PlannerContext& ctx) : ctx_(ctx), deadline_(deadline_after(ctx.limits.timeout_s)) {}
   // nullopt while the search may go on.
   std::optional<TrialStatus> exhausted(std::int64_t nodes) const {
     if (nodes >= ctx_.limits.max_nodes) return TrialStatus::node_cap;
@@ -72,8 +69,20 @@ class SearchBudget {
     if (std::chrono::steady_clock::now() >= deadline_) return TrialStatus::timeout;
     return std::nullopt;
   }
+  // The same deadline and cancellation, for a Propagator (a long propagation ends early).
+  PropagationInterrupt interrupt() const { return {deadline_, ctx_.stop}; }
 
  private:
+  // now + seconds, saturated: a timeout beyond half of what the clock can still count (about
+  // 146 years), or NaN, means no deadline rather than an overflow into the past.
+  static std::chrono::steady_clock::time_point deadline_after(double seconds) {
+    using Clock = std::chrono::steady_clock;
+    const auto now = Clock::now();
+    const double room = std::chrono::duration<double>(Clock::time_point::max() - now).count();
+    if (!(seconds < 0.5 * room)) return Clock::time_point::max();
+    return now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  }
+
   const PlannerContext& ctx_;
   std::chrono::steady_clock::time_point deadline_;
 };

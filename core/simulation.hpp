@@ -58,6 +58,10 @@ class ModelPropagator final : public Propagator {
                               std::span<double> out) override {
     PropagationResult r;
     r.mode = q;
+    if (interrupted()) {  // the trial is over: no work, nothing to add
+      r.end = PropagationEnd::rejected;
+      return r;
+    }
     std::copy(x.begin(), x.end(), x0_.begin());
     const double* pp = p.data();
     // Already unsafe, or an urgent transition already enabled: zero-time outcome.
@@ -107,7 +111,7 @@ class ModelPropagator final : public Propagator {
         }
       }
       ++r.steps;
-      if (!all_finite(x1_)) {
+      if (interrupt_due() || !all_finite(x1_)) {
         r.end = PropagationEnd::rejected;
         r.duration = t;
         return r;

@@ -22,8 +22,11 @@ class ModelSystem final : public System {
 
   const M& model() const { return model_; }
   const SystemInfo& info() const override { return info_; }
+  bool valid_mode(Mode q) const override { return model_.valid_mode(q); }
   const InputSet& inputs(Mode q) const override { return model_.inputs(q); }
   std::string mode_name(Mode q) const override {
+    // A model's mode_name may index tables with q: never hand it an invalid one.
+    if (!model_.valid_mode(q)) return std::to_string(q) + " (not a mode)";
     if constexpr (requires { model_.mode_name(q); })
       return model_.mode_name(q);
     else

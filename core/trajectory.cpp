@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -11,31 +13,143 @@ namespace {
 
 Json vec(const std::vector<double>& v) { return Json(v); }
 
-// Reads j[key] as T, with a WitnessError that names the field when it is missing or mistyped.
-template <class T>
-T field(const Json& j, const char* key, const std::string& where) {
+// j[key], or a WitnessError naming the field when j is not an object or has no such member.
+const Json& member(const Json& j, const char* key, const std::string& where) {
   if (!j.is_object() || !j.contains(key))
     throw WitnessError(fmt::format("witness: missing field '{}{}'", where, key));
+  return j.at(key);
+}
+
+WitnessError wrong_type(const char* key, const std::string& where, const char* expected) {
+  return WitnessError(fmt::format("witness: field '{}{}' has the wrong type (expected {})", where, key, expected));
+}
+
+// Reads j[key] as T (strings, lists of strings), with a WitnessError that names the field.
+template <class T>
+T field(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
   try {
-    return j.at(key).get<T>();
+    return v.get<T>();
   } catch (const Json::exception&) {
     throw WitnessError(fmt::format("witness: field '{}{}' has the wrong type", where, key));
   }
 }
 
+// j[key] as an integer in [lo, hi]. A JSON number written as a float ("1e3") counts when it is
+// integral. Anything else is a WitnessError naming the field and the range: the value is never
+// wrapped into range (-1 is not the largest Mode) nor converted with undefined behaviour.
+template <class T>
+T integer_field(const Json& j, const char* key, const std::string& where, T lo, T hi) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number()) throw wrong_type(key, where, "an integer");
+  const auto in_range = [&](auto i) { return std::cmp_greater_equal(i, lo) && std::cmp_less_equal(i, hi); };
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (in_range(u)) return static_cast<T>(u);
+  } else if (v.is_number_integer()) {
+    const auto i = v.get<std::int64_t>();
+    if (in_range(i)) return static_cast<T>(i);
+  } else {
+    const double d = v.get<double>();
+    // 2^64 and -2^63 are exact doubles: inside these bounds the conversions below are exact.
+    if (std::isfinite(d) && d == std::floor(d)) {
+      if (d >= 0.0 && d < 18446744073709551616.0) {
+        const auto u = static_cast<std::uint64_t>(d);
+        if (in_range(u)) return static_cast<T>(u);
+      } else if (d < 0.0 && d >= -9223372036854775808.0) {
+        const auto i = static_cast<std::int64_t>(d);
+        if (in_range(i)) return static_cast<T>(i);
+      }
+    }
+  }
+  throw WitnessError(fmt::format("witness: field '{}{}' = {} is out of range (an integer in [{}, {}])", where, key,
+                                 v.dump(), lo, hi));
+}
+
+// j[key] as a finite number.
+double number_field(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number()) throw wrong_type(key, where, "a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw WitnessError(fmt::format("witness: field '{}{}' is not finite", where, key));
+  return d;
+}
+
+// j[key] as a list of finite numbers, of expected_size values unless that is -1.
 std::vector<double> numbers(const Json& j, const char* key, const std::string& where,
                             std::size_t expected_size) {
-  auto v = field<std::vector<double>>(j, key, where);
-  if (expected_size != static_cast<std::size_t>(-1) && v.size() != expected_size)
+  const Json& a = member(j, key, where);
+  if (!a.is_array()) throw wrong_type(key, where, "an array of numbers");
+  if (expected_size != static_cast<std::size_t>(-1) && a.size() != expected_size)
     throw WitnessError(fmt::format("witness: field '{}{}' has {} values, expected {}", where, key,
-                                   v.size(), expected_size));
-  for (double x : v)
-    if (!std::isfinite(x))
+                                   a.size(), expected_size));
+  std::vector<double> v;
+  v.reserve(a.size());
+  for (const Json& x : a) {
+    if (!x.is_number()) throw wrong_type(key, where, "an array of numbers");
+    v.push_back(x.get<double>());
+    if (!std::isfinite(v.back()))
       throw WitnessError(fmt::format("witness: field '{}{}' holds a non-finite value", where, key));
+  }
   return v;
 }
 
+// Where a JSON text failed to parse, and why: nlohmann's SAX interface reports the byte offset
+// of every error, the number overflow ("1e999", out_of_range.406) included, which its DOM
+// parser throws without one.
+struct ParseErrorLocator final : nlohmann::json_sax<Json> {
+  std::size_t position = 0;
+  std::string cause;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t pos, const std::string&, const nlohmann::detail::exception& ex) override {
+    position = pos;
+    cause = ex.what();
+    // nlohmann's what() is "[json.exception.KIND.ID] parse error at line L, column C: CAUSE" or
+    // "[json.exception.KIND.ID] CAUSE": keep CAUSE (the location is reported separately).
+    if (const auto b = cause.find("] "); b != std::string::npos) cause.erase(0, b + 2);
+    if (cause.rfind("parse error", 0) == 0)
+      if (const auto c = cause.find(": "); c != std::string::npos) cause.erase(0, c + 2);
+    return false;
+  }
+};
+
 }  // namespace
+
+Witness witness_from_text(std::string_view text) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::exception& e) {
+    ParseErrorLocator where;
+    Json::sax_parse(text, &where);
+    if (where.cause.empty()) where.cause = e.what();  // (the SAX pass found nothing: keep the original)
+    // Line and column of the byte (1-based, as editors count).
+    const std::size_t at = std::min(where.position, text.size());
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < at; ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    throw WitnessError(fmt::format("JSON error at byte {} (line {}, column {}): {}", where.position, line,
+                                   column, where.cause));
+  }
+  return witness_from_json(j);
+}
 
 Witness make_witness(const System& system, std::string method, std::int64_t trial_seed, Trajectory trajectory) {
   const SystemInfo& info = system.info();
@@ -76,39 +190,43 @@ Witness witness_from_json(const Json& j) {
     throw WitnessError("witness: field 'format' is not \"hyfal-witness/1\"");
   Witness w;
   w.suite = field<std::string>(j, "suite", "");
-  if (!j.contains("instance") || !j["instance"].is_object())
-    throw WitnessError("witness: missing field 'instance' (an object)");
-  w.instance = j["instance"];
+  if (!member(j, "instance", "").is_object()) throw wrong_type("instance", "", "an object");
+  w.instance = j.at("instance");
   w.method = field<std::string>(j, "method", "");
-  w.trial_seed = field<std::int64_t>(j, "trial_seed", "");
+  w.trial_seed = integer_field<std::int64_t>(j, "trial_seed", "", std::numeric_limits<std::int64_t>::min(),
+                                             std::numeric_limits<std::int64_t>::max());
   w.state_names = field<std::vector<std::string>>(j, "state_names", "");
   w.input_names = field<std::vector<std::string>>(j, "input_names", "");
   const std::size_t n = w.state_names.size(), m = w.input_names.size();
   Trajectory& t = w.trajectory;
+  constexpr Mode kModeMax = std::numeric_limits<Mode>::max();
   t.parameters = numbers(j, "parameters", "", static_cast<std::size_t>(-1));
-  if (!j.contains("initial")) throw WitnessError("witness: missing field 'initial'");
-  t.initial_mode = field<Mode>(j["initial"], "mode", "initial.");
-  t.initial_x = numbers(j["initial"], "x", "initial.", n);
-  if (!j.contains("pieces") || !j["pieces"].is_array())
-    throw WitnessError("witness: missing field 'pieces' (an array)");
-  for (std::size_t i = 0; i < j["pieces"].size(); ++i) {
-    const Json& pj = j["pieces"][i];
+  const Json& initial = member(j, "initial", "");
+  t.initial_mode = integer_field<Mode>(initial, "mode", "initial.", 0, kModeMax);
+  t.initial_x = numbers(initial, "x", "initial.", n);
+  const Json& pieces = member(j, "pieces", "");
+  if (!pieces.is_array()) throw wrong_type("pieces", "", "an array");
+  t.pieces.reserve(pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const Json& pj = pieces[i];
     const std::string where = fmt::format("pieces[{}].", i);
     TrajectoryPiece p;
-    p.mode = field<Mode>(pj, "mode", where);
+    p.mode = integer_field<Mode>(pj, "mode", where, 0, kModeMax);
     p.u = numbers(pj, "u", where, m);
-    p.duration = field<double>(pj, "duration", where);
-    if (!(p.duration >= 0.0) || !std::isfinite(p.duration))
-      throw WitnessError(fmt::format("witness: field '{}duration' must be finite and >= 0", where));
+    p.duration = number_field(pj, "duration", where);
+    if (!(p.duration >= 0.0)) throw WitnessError(fmt::format("witness: field '{}duration' must be >= 0", where));
     p.x_start = numbers(pj, "x_start", where, n);
     p.x_end = numbers(pj, "x_end", where, n);
-    p.transition = pj.contains("transition") ? field<int>(pj, "transition", where) : -1;
+    // -1: no transition at the end of the piece; otherwise a guard index of the piece's mode.
+    p.transition = pj.contains("transition")
+                       ? integer_field<int>(pj, "transition", where, -1, std::numeric_limits<int>::max())
+                       : -1;
     t.pieces.push_back(std::move(p));
   }
-  if (!j.contains("final")) throw WitnessError("witness: missing field 'final'");
-  t.final_mode = field<Mode>(j["final"], "mode", "final.");
-  t.final_x = numbers(j["final"], "x", "final.", n);
-  t.final_spec = field<double>(j["final"], "spec", "final.");
+  const Json& final_j = member(j, "final", "");
+  t.final_mode = integer_field<Mode>(final_j, "mode", "final.", 0, kModeMax);
+  t.final_x = numbers(final_j, "x", "final.", n);
+  t.final_spec = number_field(final_j, "spec", "final.");
   return w;
 }
 
@@ -162,13 +280,42 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
     r.reason = std::move(why);
     return r;
   };
+  auto malformed = [&](std::string why) {
+    r.malformed = true;
+    return fail(std::move(why));
+  };
   const std::size_t n = info.dim();
-  if (w.suite != info.suite) return fail(fmt::format("witness is for suite '{}', not '{}'", w.suite, info.suite));
+  if (w.suite != info.suite) return malformed(fmt::format("witness is for suite '{}', not '{}'", w.suite, info.suite));
   if (t.initial_x.size() != n || t.final_x.size() != n)
-    return fail(fmt::format("witness states have {} values, the system has {}", t.initial_x.size(), n));
+    return malformed(fmt::format("witness states have {} values, the system has {}", t.initial_x.size(), n));
   if (t.parameters.size() != info.parameter_box.dim())
-    return fail(fmt::format("witness has {} parameters, the system has {}", t.parameters.size(),
-                            info.parameter_box.dim()));
+    return malformed(fmt::format("witness has {} parameters, the system has {}", t.parameters.size(),
+                                 info.parameter_box.dim()));
+  // Every index and size the witness names, before anything uses one: a model may index its
+  // tables with a mode (navigation: its terrains) and the validator indexes guards with a
+  // transition. Durations too, so that the work a witness asks for is bounded: no method makes a
+  // piece longer than δt (the relative slack absorbs the rounding of r.duration).
+  const double longest = info.step_duration * (1.0 + 1e-9);
+  if (!system.valid_mode(t.initial_mode))
+    return malformed(fmt::format("initial.mode = {} is not a mode of suite '{}'", t.initial_mode, info.suite));
+  for (std::size_t i = 0; i < t.pieces.size(); ++i) {
+    const TrajectoryPiece& piece = t.pieces[i];
+    if (!system.valid_mode(piece.mode))
+      return malformed(fmt::format("pieces[{}].mode = {} is not a mode of suite '{}'", i, piece.mode, info.suite));
+    if (piece.x_start.size() != n || piece.x_end.size() != n)
+      return malformed(fmt::format("piece {} has states of the wrong size", i));
+    const std::size_t m = system.inputs(piece.mode).dim();
+    if (piece.u.size() != m) return malformed(fmt::format("piece {}: u has {} values, U has {}", i, piece.u.size(), m));
+    if (piece.transition < -1 || piece.transition >= system.guard_count(piece.mode))
+      return malformed(fmt::format("pieces[{}].transition = {}: mode {} has {} transitions (indices from 0)", i,
+                                   piece.transition, system.mode_name(piece.mode), system.guard_count(piece.mode)));
+    if (!(piece.duration >= 0.0 && piece.duration <= longest))
+      return fail(fmt::format("pieces[{}].duration = {:.6g} s is longer than any method extends a node (δt = {:.6g} s)",
+                              i, piece.duration, info.step_duration));
+  }
+  if (!system.valid_mode(t.final_mode))
+    return malformed(fmt::format("final.mode = {} is not a mode of suite '{}'", t.final_mode, info.suite));
+
   for (std::size_t i = 0; i < t.parameters.size(); ++i)
     if (t.parameters[i] < info.parameter_box.lo[i] - tol || t.parameters[i] > info.parameter_box.hi[i] + tol)
       return fail(fmt::format("parameter {} = {} is outside P", i, t.parameters[i]));
@@ -184,6 +331,7 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
   tight.rel_tol = 1e-12;
   tight.max_step = std::min(info.integrator.max_step, info.step_duration);
   tight.step = tight.max_step / 8;
+  if (!(tight.max_step > 0.0)) return fail("the system's integrator has no positive maximal step");
   auto prop = system.make_propagator(tight);
   const std::span<const double> p = t.parameters;
 
@@ -194,13 +342,10 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
     if (piece.mode != q)
       return fail(fmt::format("piece {} flows in mode {}, but the execution is in mode {}", i,
                               system.mode_name(piece.mode), system.mode_name(q)));
-    if (piece.x_start.size() != n || piece.x_end.size() != n)
-      return fail(fmt::format("piece {} has states of the wrong size", i));
     const double e0 = scaled_error(x, piece.x_start);
     r.max_state_error = std::max(r.max_state_error, e0);
     if (e0 > tol) return fail(fmt::format("piece {}: x_start differs from the re-simulated state by {:.3g}", i, e0));
     const InputSet& U = system.inputs(q);
-    if (piece.u.size() != U.dim()) return fail(fmt::format("piece {}: u has {} values, U has {}", i, piece.u.size(), U.dim()));
     for (std::size_t k = 0; k < U.dim(); ++k)
       if (piece.u[k] < U.box.lo[k] - tol || piece.u[k] > U.box.hi[k] + tol)
         return fail(fmt::format("piece {}: input {} = {} is outside U", i, k, piece.u[k]));
@@ -215,30 +360,35 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
                                   piece.u[k], lo[k], hi[k]));
     }
     // Flow in short sub-intervals; inside the piece the invariant must hold and no transition
-    // may be enabled (they are urgent).
-    const int sub = std::max(1, static_cast<int>(std::ceil(piece.duration / tight.max_step)));
-    const double h = piece.duration / sub;
-    for (int s = 0; s < sub; ++s) {
-      if (prop->flow(q, x, piece.u, p, h, next) < 0)
-        return fail(fmt::format("piece {}: the state became non-finite", i));
+    // may be enabled (they are urgent). The count is 64-bit and bounded: duration <= δt
+    // (checked above) and max_step is the suite's.
+    const auto sub = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(piece.duration / tight.max_step)));
+    const double h = piece.duration / static_cast<double>(sub);
+    for (std::int64_t s = 0; s < sub; ++s) {
+      std::int64_t steps = -1;
+      try {
+        steps = prop->flow(q, x, piece.u, p, h, next);
+      } catch (const std::exception& e) {  // odeint gives up on a step size it cannot control
+        return fail(fmt::format("piece {}: the integrator failed: {}", i, e.what()));
+      }
+      if (steps < 0) return fail(fmt::format("piece {}: the state became non-finite", i));
       x.swap(next);
       const bool inside = (s + 1 < sub);
+      const double at = h * static_cast<double>(s + 1);
       if (!system.invariant(q, x, p) && inside)
         return fail(fmt::format("piece {}: the invariant of mode {} fails at t = {:.6g}", i,
-                                system.mode_name(q), h * (s + 1)));
+                                system.mode_name(q), at));
       if (inside)
         for (int k = 0; k < system.guard_count(q); ++k)
           if (system.guard(q, k, x, p) > tol)
             return fail(fmt::format("piece {}: transition {} is enabled at t = {:.6g} inside the piece, "
-                                    "but transitions are urgent", i, k, h * (s + 1)));
+                                    "but transitions are urgent", i, k, at));
     }
     const double e1 = scaled_error(x, piece.x_end);
     r.max_state_error = std::max(r.max_state_error, e1);
     if (e1 > tol) return fail(fmt::format("piece {}: x_end differs from the re-simulated state by {:.3g}", i, e1));
-    if (piece.transition >= 0) {
+    if (piece.transition >= 0) {  // a guard index of q (checked above)
       const int k = piece.transition;
-      if (k >= system.guard_count(q))
-        return fail(fmt::format("piece {}: mode {} has no transition {}", i, system.mode_name(q), k));
       if (system.guard(q, k, x, p) < -tol)
         return fail(fmt::format("piece {}: transition {} is not enabled at the end of the piece", i, k));
       q = system.jump(q, k, x, p);

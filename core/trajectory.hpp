@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/model.hpp"
@@ -49,8 +50,13 @@ class WitnessError : public std::runtime_error {
 };
 
 Json to_json(const Witness& w);
-// Throws WitnessError naming the first missing or malformed field.
+// Throws WitnessError naming the first missing or malformed field: a missing member, a wrong
+// JSON type, a non-finite number, a vector whose length differs from state_names/input_names, an
+// integer (mode, transition, seed) outside its type's range (never wrapped).
 Witness witness_from_json(const Json& j);
+// witness_from_json of a file's text; a JSON syntax error or a number beyond double's range
+// (1e999) is a WitnessError giving the byte offset, line, column and cause. Throws nothing else.
+Witness witness_from_text(std::string_view text);
 
 // The trajectory from the root to `leaf`; x_end of each piece is re-flowed with `propagator`
 // (the tree stores post-reset states only).
@@ -60,13 +66,21 @@ Trajectory trajectory_from_tree(const System& system, Propagator& propagator,
 
 struct ValidationReport {
   bool valid = false;
+  // Not even a witness of this system (bad input, not an invalid execution): a vector of the
+  // wrong size, a mode that is not one of the system's modes, a transition index the mode does
+  // not have. The rest (values outside P or U, a piece longer than δt, states that do not
+  // re-simulate, a safe final state) makes a well-formed witness invalid.
+  bool malformed = false;
   std::string reason;          // why not, or a one-line summary when valid
   double final_spec = 0.0;     // s at the re-simulated final state
   double max_state_error = 0.0;  // largest |re-simulated - recorded| over all checked states
 };
 
 // Re-simulates the pieces from the initial state with a tight Dormand-Prince integrator,
-// independent of the stored intermediate states: checks modes, inputs within U_q, each
+// independent of the stored intermediate states. First, before anything uses them, every index
+// the witness names (modes, transitions) and every vector size is checked against the system
+// (malformed), and every piece's duration against δt (SystemInfo::step_duration: no method
+// extends a node for longer, so a witness asks for bounded work). Then: modes, inputs within U_q, each
 // piece's end state, that no transition became enabled inside a piece (urgency), that each
 // recorded transition is enabled at its piece's end and its reset reproduces the next
 // x_start, and that the final state has s <= tolerance.

@@ -338,6 +338,18 @@ class Aircraft {
 
   int dim() const { return kStride * n_ + 1; }
 
+  // Every aircraft's 3-bit field holds one of H, C, R, G (and L only under the safer protocol,
+  // the only one that turns left), and the bits above the N fields are zero.
+  bool valid_mode(Mode q) const {
+    if ((q >> (3 * n_)) != 0) return false;  // 3 N <= 63 (kMaxAircraft)
+    for (int i = 0; i < n_; ++i) {
+      const auto m = static_cast<Mode>(aircraft_mode(q, i));
+      if (m > static_cast<Mode>(AircraftMode::arrived)) return false;
+      if (m == static_cast<Mode>(AircraftMode::avoid_left) && protocol_ != AircraftProtocol::safer) return false;
+    }
+    return true;
+  }
+
   void flow(Mode q, const double* x, const double* u, const double*, double* dx) const {
     for (int i = 0; i < n_; ++i) {
       const double* a = x + kStride * i;

@@ -250,6 +250,7 @@ class Blimp {
     ds[12] = (in[0] - wx) / tau_w;
     ds[13] = (in[1] - wy) / tau_w;
   }
+  bool valid_mode(Mode q) const { return q <= kArrived; }
   int guard_count(Mode q) const { return q == kArrived ? 0 : 1; }
   double guard(Mode q, int, const double* s, const double* p) const {
     if (q == kToWaypoint) return r_waypoint - std::hypot(s[0] - p[0], s[1] - p[1], s[2] - wp_z);

@@ -194,6 +194,8 @@ class GuardIntruder {
     }
   }
 
+  // 0 = patrol, j = 1..kGuards = guard j pursues.
+  bool valid_mode(Mode q) const { return q <= static_cast<Mode>(kGuards); }
   int guard_count(Mode q) const { return q == 0 ? kGuards : 1; }
   double guard(Mode q, int k, const double* x, const double*) const {
     if (q == 0) return law_.r_d - distance(x, k + 1);

@@ -125,6 +125,7 @@ class Hovercraft {
     dx[4] = (thrust * st + fa * st + fc * ct) / m;
     dx[5] = ((u[1] - u[0]) * l - c_omega * w * std::sqrt(w * w + eps_w * eps_w) - d * fc) / J;
   }
+  bool valid_mode(Mode q) const { return q == kVortex || q == kCalm; }
   int guard_count(Mode) const { return 1; }
   double guard(Mode q, int, const double* x, const double*) const {
     const double r = std::hypot(x[0], x[1]);

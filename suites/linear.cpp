@@ -64,6 +64,7 @@ class Linear {
     dx[0] = a11 * x[0] + a12 * x[1] + u[0] + b1;
     dx[1] = a21 * x[0] + a22 * x[1] + u[1] + b2;
   }
+  bool valid_mode(Mode q) const { return q == 0; }  // one mode
   int guard_count(Mode) const { return 0; }
   double guard(Mode, int, const double*, const double*) const { return -1.0; }
   Mode jump(Mode q, int, double*, const double*) const { return q; }

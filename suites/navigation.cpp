@@ -482,6 +482,7 @@ class Navigation {
     dx[3] = u[0];
     dx[4] = u[1];
   }
+  bool valid_mode(Mode q) const { return q < maze_->terrains(); }  // a terrain index
   int guard_count(Mode) const { return 4; }
   double guard(Mode q, int k, const double* x, const double*) const {
     return maze_->open(q, side_of(k)) ? beyond(q, k, x) - kHysteresis : -1.0;

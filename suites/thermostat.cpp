@@ -40,6 +40,7 @@ class Thermostat {
         off_(InputSet::grid({{-3.0}, {-1.0}}, levels)) {}
 
   int dim() const { return 3; }
+  bool valid_mode(Mode q) const { return q == kOff || q == kOn; }
   void flow(Mode q, const double* x, const double* u, const double*, double* dx) const {
     dx[0] = u[0];
     dx[1] = 1.0;

@@ -26,6 +26,7 @@ struct Example31 {
     dx[0] = 2.0;
     dx[1] = u[0];
   }
+  bool valid_mode(Mode q) const { return q == 0; }
   int guard_count(Mode) const { return 0; }
   double guard(Mode, int, const double*, const double*) const { return -1.0; }
   Mode jump(Mode q, int, double*, const double*) const { return q; }

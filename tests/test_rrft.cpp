@@ -113,6 +113,7 @@ struct ParamRamp {
     dx[0] = p[0] * u[0];
     dx[1] = 1.0;
   }
+  bool valid_mode(Mode q) const { return q <= 1; }
   int guard_count(Mode q) const { return q == 0 ? 1 : 0; }
   double guard(Mode, int, const double* x, const double*) const { return x[0] - 0.3; }
   Mode jump(Mode, int, double*, const double*) const { return 1; }

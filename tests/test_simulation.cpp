@@ -31,6 +31,7 @@ namespace {
 struct Decay {
   InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
   int dim() const { return 1; }
+  bool valid_mode(Mode q) const { return q == 0; }
   void flow(Mode, const double* x, const double*, const double*, double* dx) const { dx[0] = -x[0]; }
   int guard_count(Mode) const { return 0; }
   double guard(Mode, int, const double*, const double*) const { return -1; }
@@ -45,6 +46,7 @@ struct Ball {
   static constexpr double g = 9.81, e = 0.8;
   InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
   int dim() const { return 2; }
+  bool valid_mode(Mode) const { return true; }  // the mode counts bounces
   void flow(Mode, const double* x, const double*, const double*, double* dx) const {
     dx[0] = x[1];
     dx[1] = -g;
@@ -65,6 +67,7 @@ struct Ramp {
   double a0 = 0.5, a1 = 0.5, s_at = 10.0;
   InputSet u = InputSet::grid({{-10.0}, {10.0}}, 3);
   int dim() const { return 1; }
+  bool valid_mode(Mode q) const { return q == 0 || q == 10 || q == 11; }
   void flow(Mode, const double*, const double* u, const double*, double* dx) const {
     dx[0] = u[0] == 7.0 ? std::numeric_limits<double>::quiet_NaN() : u[0];
   }

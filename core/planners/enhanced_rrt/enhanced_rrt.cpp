@@ -123,6 +123,7 @@ class EnhancedRrt final : public Planner {
     auto prop = sys.make_propagator();
     TimeToGo t2go(sys, metric, p);
     const SearchBudget budget(ctx);
+    prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
     Rng rng(ctx.seed);
     InputGrid U(sys);  // Ū at x_near (admissible inputs of a driver model)
 

@@ -308,6 +308,7 @@ class Hydice final : public Planner {
     PlannerCounters& c = out.counters;
     auto prop = sys.make_propagator();
     const SearchBudget budget(ctx);
+    prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
     Rng rng(ctx.seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double cell = dec->cell_size();

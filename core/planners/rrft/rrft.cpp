@@ -207,6 +207,7 @@ class Rrft final : public Planner {
       std::vector<double> p = searched ? halton.next() : std::vector<double>(ctx.parameters.begin(), ctx.parameters.end());
       seeds.push_back(p);
       auto t = std::make_unique<ForestTree>(sys, metric, trees.size(), std::move(p), ctx.seed);
+      t->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
       const NodeId root = t->nodes.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
       t->nn->add(root, info.initial_state);
       t->grid->add(info.initial_state);

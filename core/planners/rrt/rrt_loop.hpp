@@ -33,6 +33,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source) {
   NearestNeighbors nn(metric);
   auto prop = sys.make_propagator();
   const SearchBudget budget(ctx);
+  prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
   Rng rng(ctx.seed);
   InputGrid U(sys);
 
