@@ -188,25 +188,37 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
 // (sizes, modes, transitions: ValidationReport::malformed). Exit 1: a well-formed witness that
 // does not re-simulate to the unsafe set (INVALID on stdout).
 int cmd_validate(const std::string& file) {
+  // Names and values quoted from the file may hold control characters (a JSON "\n"): escaped,
+  // so that an error stays one line.
+  const auto one_line = [](std::string_view s) {
+    std::string out;
+    for (const char c : s)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
+      else
+        out += c;
+    return out;
+  };
   Witness w;
   try {
     w = witness_from_text(read_file(file));
   } catch (const WitnessError& e) {
-    throw UsageError(fmt::format("'{}': {}", file, e.what()));
+    throw UsageError(one_line(fmt::format("'{}': {}", file, e.what())));
   }
   const SuiteEntry* suite = find_suite(w.suite);
-  if (!suite) throw UsageError(fmt::format("'{}': unknown suite '{}'", file, w.suite));
+  if (!suite) throw UsageError(one_line(fmt::format("'{}': unknown suite '{}'", file, w.suite)));
   std::vector<std::pair<std::string, std::string>> sets;
   for (const auto& [k, v] : w.instance.items()) sets.emplace_back(k, v.is_string() ? v.get<std::string>() : v.dump());
   std::shared_ptr<const System> system;
   try {
     system = suite->make(resolve_options(suite->parameters, sets));
   } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("'{}': bad instance: {}", file, e.what()));
+    throw UsageError(one_line(fmt::format("'{}': bad instance: {}", file, e.what())));
   }
   const ValidationReport r = validate_witness(*system, w);
-  if (r.malformed) throw UsageError(fmt::format("'{}': not a witness of this {} instance: {}", file, w.suite, r.reason));
-  fmt::print("{}: {}\n", r.valid ? "VALID" : "INVALID", r.reason);
+  if (r.malformed)
+    throw UsageError(one_line(fmt::format("'{}': not a witness of this {} instance: {}", file, w.suite, r.reason)));
+  fmt::print("{}: {}\n", r.valid ? "VALID" : "INVALID", one_line(r.reason));
   return r.valid ? 0 : 1;
 }
 

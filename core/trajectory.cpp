@@ -309,12 +309,13 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
     if (piece.transition < -1 || piece.transition >= system.guard_count(piece.mode))
       return malformed(fmt::format("pieces[{}].transition = {}: mode {} has {} transitions (indices from 0)", i,
                                    piece.transition, system.mode_name(piece.mode), system.guard_count(piece.mode)));
-    if (!(piece.duration >= 0.0 && piece.duration <= longest))
-      return fail(fmt::format("pieces[{}].duration = {:.6g} s is longer than any method extends a node (δt = {:.6g} s)",
-                              i, piece.duration, info.step_duration));
   }
   if (!system.valid_mode(t.final_mode))
     return malformed(fmt::format("final.mode = {} is not a mode of suite '{}'", t.final_mode, info.suite));
+  for (std::size_t i = 0; i < t.pieces.size(); ++i)  // (after every malformation: those are bad input)
+    if (!(t.pieces[i].duration >= 0.0 && t.pieces[i].duration <= longest))
+      return fail(fmt::format("pieces[{}].duration = {:.6g} s is longer than any method extends a node (δt = {:.6g} s)",
+                              i, t.pieces[i].duration, info.step_duration));
 
   for (std::size_t i = 0; i < t.parameters.size(); ++i)
     if (t.parameters[i] < info.parameter_box.lo[i] - tol || t.parameters[i] > info.parameter_box.hi[i] + tol)
@@ -332,6 +333,15 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
   tight.max_step = std::min(info.integrator.max_step, info.step_duration);
   tight.step = tight.max_step / 8;
   if (!(tight.max_step > 0.0)) return fail("the system's integrator has no positive maximal step");
+  // The work, bounded before it starts: sub-intervals of at most max_step over all pieces (each
+  // at least one). Witnesses of hyfal's methods need about 40 per piece and at most thousands of
+  // pieces; only a suite instance with a maximal step far below δt can ask for more.
+  constexpr double kMaxSubIntervals = 1e7;
+  double sub_intervals = 0.0;
+  for (const auto& piece : t.pieces) sub_intervals += std::max(1.0, std::ceil(piece.duration / tight.max_step));
+  if (!(sub_intervals <= kMaxSubIntervals))
+    return fail(fmt::format("re-simulating the witness needs {:.3g} integration intervals of at most {:.3g} s, "
+                            "more than {:.0e}", sub_intervals, tight.max_step, kMaxSubIntervals));
   auto prop = system.make_propagator(tight);
   const std::span<const double> p = t.parameters;
 
@@ -360,8 +370,7 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
                                   piece.u[k], lo[k], hi[k]));
     }
     // Flow in short sub-intervals; inside the piece the invariant must hold and no transition
-    // may be enabled (they are urgent). The count is 64-bit and bounded: duration <= δt
-    // (checked above) and max_step is the suite's.
+    // may be enabled (they are urgent). The count is 64-bit and bounded (above).
     const auto sub = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(piece.duration / tight.max_step)));
     const double h = piece.duration / static_cast<double>(sub);
     for (std::int64_t s = 0; s < sub; ++s) {
