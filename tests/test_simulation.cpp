@@ -5,12 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <new>
+#include <stop_token>
+#include <thread>
 
 #include "core/options.hpp"
+#include "core/planner.hpp"
 #include "core/system.hpp"
 #include "suites/registry.hpp"
 
@@ -258,6 +262,197 @@ TEST(Inputs, GridHasEndpointsAndAllCombinations) {
   EXPECT_EQ(s.input(8)[1], 4.0);
   EXPECT_EQ(s.input(4)[0], 0.0);
   EXPECT_EQ(s.input(4)[1], 2.0);
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// A trial's deadline and cancellation interrupt a propagation (PropagationInterrupt).
+
+TEST(Interrupt, PassedDeadlineEndsATinyStepPropagationAtOnce) {
+  const Decay m;
+  // With h = 1e-300, t + h rounds to t long before t reaches 1: without the interrupt this
+  // propagation would never end.
+  ModelPropagator<Decay> prop(m, rk4(1e-300));
+  prop.set_interrupt({std::chrono::steady_clock::now() - std::chrono::seconds(1), {}});
+  double x0[1] = {1.0}, x1[1] = {-7.0};
+  const PropagationResult r = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+  EXPECT_EQ(r.end, PropagationEnd::rejected);
+  EXPECT_GE(r.steps, 1);
+  EXPECT_LE(r.steps, 1024) << "the clock is read every 1024 steps";
+  EXPECT_TRUE(prop.interrupted());
+  // Sticky: the next propagation does no work at all.
+  const PropagationResult again = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+  EXPECT_EQ(again.end, PropagationEnd::rejected);
+  EXPECT_EQ(again.steps, 0);
+  // flow() re-flows witness pieces and is never interrupted.
+  ModelPropagator<Decay> coarse(m, rk4(0.01));
+  coarse.set_interrupt({std::chrono::steady_clock::now() - std::chrono::seconds(1), {}});
+  EXPECT_EQ(coarse.flow(0, x0, kNoU, kNoP, 1.0, x1), 100);
+  EXPECT_NEAR(x1[0], std::exp(-1.0), 1e-9);
+  // A new interrupt re-arms the propagator.
+  prop.set_interrupt({});
+  EXPECT_FALSE(prop.interrupted());
+}
+
+TEST(Interrupt, RequestedStopEndsThePropagation) {
+  const Decay m;
+  std::stop_source stop;
+  ModelPropagator<Decay> prop(m, dopri5(1e-300, 1e-300));  // (adaptive steps that cannot grow)
+  prop.set_interrupt({std::chrono::steady_clock::time_point::max(), stop.get_token()});
+  stop.request_stop();
+  double x0[1] = {1.0}, x1[1];
+  const PropagationResult r = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+  EXPECT_EQ(r.end, PropagationEnd::rejected);
+  EXPECT_LE(r.steps, 1024);
+}
+
+TEST(Interrupt, FarDeadlineChangesNothing) {
+  for (const auto& s : {rk4(0.01), dopri5(1e-9)}) {
+    const Ball ball;
+    ModelPropagator<Ball> plain(ball, s), watched(ball, s);
+    std::stop_source stop;
+    watched.set_interrupt({std::chrono::steady_clock::now() + std::chrono::hours(1), stop.get_token()});
+    double x0[2] = {10.0, 0.0}, a[2], b[2];
+    for (int i = 0; i < 3; ++i) {  // 3 s: an impact, localized; more than 1024 steps in all for rk4
+      const PropagationResult ra = plain.propagate(0, x0, kNoU, kNoP, 3.0, a);
+      const PropagationResult rb = watched.propagate(0, x0, kNoU, kNoP, 3.0, b);
+      EXPECT_EQ(ra.end, rb.end);
+      EXPECT_EQ(ra.duration, rb.duration);
+      EXPECT_EQ(ra.steps, rb.steps);
+      EXPECT_EQ(a[0], b[0]);
+      EXPECT_EQ(a[1], b[1]);
+    }
+  }
+}
+
+TEST(Allocation, InterruptiblePropagationsAllocateNothing) {
+  for (const auto& s : {rk4(0.001), dopri5(1e-9)}) {
+    const Ball ball;
+    ModelPropagator<Ball> prop(ball, s);
+    std::stop_source stop;
+    prop.set_interrupt({std::chrono::steady_clock::now() + std::chrono::hours(1), stop.get_token()});
+    double x0[2] = {10.0, 0.0}, x1[2];
+    prop.propagate(0, x0, kNoU, kNoP, 3.0, x1);  // warm-up sizes the workspace
+    const long before = g_allocations.load();
+    std::int64_t steps = 0;
+    for (int i = 0; i < 20; ++i) steps += prop.propagate(0, x0, kNoU, kNoP, 3.0, x1).steps;
+    EXPECT_EQ(g_allocations.load() - before, 0) << (s.kind == IntegratorKind::rk4 ? "rk4" : "dopri5");
+    if (s.kind == IntegratorKind::rk4) {
+      EXPECT_GT(steps, 20 * 1024) << "the clock was read in between";
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// SearchBudget: a timeout too long for the clock saturates (no deadline) instead of wrapping
+// into the past; the same deadline reaches the propagators.
+
+std::shared_ptr<const System> default_system(const char* suite) {
+  const SuiteEntry* s = find_suite(suite);
+  return s->make(resolve_options(s->parameters, {}));
+}
+
+TEST(Budget, HugeTimeoutsNeverOverflow) {
+  const auto sys = default_system("thermostat");
+  const auto far = std::chrono::steady_clock::now() + std::chrono::hours(24 * 365 * 100);
+  for (const double timeout : {1e10, 9.3e9, 1e18, 1e300, std::numeric_limits<double>::infinity(),
+                               std::numeric_limits<double>::quiet_NaN()}) {
+    const PlannerContext ctx{*sys, sys->info().parameters, 1, PlannerLimits{timeout, 1000}, {}};
+    const SearchBudget budget(ctx);
+    EXPECT_FALSE(budget.exhausted(0).has_value()) << timeout;
+    EXPECT_GT(budget.interrupt().deadline, far) << timeout;
+  }
+  for (const double timeout : {0.0, -1.0, -1e300}) {
+    const PlannerContext ctx{*sys, sys->info().parameters, 1, PlannerLimits{timeout, 1000}, {}};
+    EXPECT_EQ(SearchBudget(ctx).exhausted(0), TrialStatus::timeout) << timeout;
+  }
+  const PlannerContext ctx{*sys, sys->info().parameters, 1, PlannerLimits{2.0, 1000}, {}};
+  const auto before = std::chrono::steady_clock::now();
+  const SearchBudget budget(ctx);
+  const auto after = std::chrono::steady_clock::now();
+  EXPECT_GE(budget.interrupt().deadline, before + std::chrono::seconds(2));
+  EXPECT_LE(budget.interrupt().deadline, after + std::chrono::seconds(2));
+}
+
+// A system whose integrator step is 1e-300 (one propagation would never end), otherwise the
+// wrapped one: every virtual forwarded, info() with the tiny step.
+class TinyStep final : public System {
+ public:
+  explicit TinyStep(std::shared_ptr<const System> inner) : inner_(std::move(inner)), info_(inner_->info()) {
+    info_.integrator.kind = IntegratorKind::rk4;
+    info_.integrator.step = 1e-300;
+  }
+  const SystemInfo& info() const override { return info_; }
+  bool valid_mode(Mode q) const override { return inner_->valid_mode(q); }
+  const InputSet& inputs(Mode q) const override { return inner_->inputs(q); }
+  std::string mode_name(Mode q) const override { return inner_->mode_name(q); }
+  void derivative(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                  std::span<double> dx) const override {
+    inner_->derivative(q, x, u, p, dx);
+  }
+  bool input_affine(Mode q) const override { return inner_->input_affine(q); }
+  bool state_dependent_inputs() const override { return inner_->state_dependent_inputs(); }
+  void input_bounds(Mode q, std::span<const double> x, std::span<double> lo, std::span<double> hi) const override {
+    inner_->input_bounds(q, x, lo, hi);
+  }
+  int guard_count(Mode q) const override { return inner_->guard_count(q); }
+  double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const override {
+    return inner_->guard(q, k, x, p);
+  }
+  Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const override {
+    return inner_->jump(q, k, x, p);
+  }
+  bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const override {
+    return inner_->invariant(q, x, p);
+  }
+  double spec(Mode q, std::span<const double> x, std::span<const double> p) const override {
+    return inner_->spec(q, x, p);
+  }
+  std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const override {
+    return inner_->make_propagator(s);
+  }
+  using System::make_propagator;
+  const Decomposition* decomposition() const override { return inner_->decomposition(); }
+
+ private:
+  std::shared_ptr<const System> inner_;
+  SystemInfo info_;
+};
+
+// Every method ends as `timeout` soon after its 0.5 s budget although a single propagation
+// would outlast any budget (issue: --set rk4_step=1e-300 ran past 75 s with --timeout 5). The
+// bound is generous (a loaded CI machine); the point is that it ends at all.
+TEST(PlannerDeadline, EveryMethodTimesOutWhenOnePropagationOutlastsTheBudget) {
+  const TinyStep sys(default_system("navigation"));  // (a decomposition for HyDICE, a coverage grid for RRFT)
+  for (const MethodEntry& method : all_methods()) {
+    SCOPED_TRACE(method.name);
+    auto planner = method.make(resolve_options(method.options, {}));
+    const auto t0 = std::chrono::steady_clock::now();
+    const PlannerOutcome out =
+        planner->solve(PlannerContext{sys, sys.info().parameters, 3, PlannerLimits{0.5, 1'000'000}, {}});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(out.status, TrialStatus::timeout);
+    EXPECT_LT(seconds, 20.0);
+    EXPECT_GE(out.counters.integration_steps, 1024);
+  }
+}
+
+// A requested stop (the engine's cancellation) ends a propagation in flight as well.
+TEST(PlannerDeadline, CancellationInterruptsAPropagationInFlight) {
+  const TinyStep sys(default_system("thermostat"));
+  std::stop_source stop;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    stop.request_stop();
+  });
+  auto planner = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
+  const auto t0 = std::chrono::steady_clock::now();
+  const PlannerOutcome out =
+      planner->solve(PlannerContext{sys, sys.info().parameters, 3, PlannerLimits{1e300, 1'000'000}, stop.get_token()});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  canceller.join();
+  EXPECT_EQ(out.status, TrialStatus::timeout);
+  EXPECT_LT(seconds, 20.0);
 }
 
 }  // namespace
