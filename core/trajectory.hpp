@@ -55,7 +55,8 @@ Json to_json(const Witness& w);
 // integer (mode, transition, seed) outside its type's range (never wrapped).
 Witness witness_from_json(const Json& j);
 // witness_from_json of a file's text; a JSON syntax error or a number beyond double's range
-// (1e999) is a WitnessError giving the byte offset, line, column and cause. Throws nothing else.
+// (1e999) is a WitnessError giving where the parser stopped (byte offset, line and column, all
+// counted from 1) and the cause. Throws nothing else.
 Witness witness_from_text(std::string_view text);
 
 // The trajectory from the root to `leaf`; x_end of each piece is re-flowed with `propagator`

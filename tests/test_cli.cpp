@@ -809,4 +809,129 @@ TEST_F(CliTest, HelpMentionsOptions) {
   for (const char* sub : {"list", "run", "table", "validate"}) EXPECT_TRUE(contains(top.out, sub)) << top;
 }
 
+
+// ---------------------------------------------------------------------------------------------
+// 7. validate on hostile witnesses (issue 11, items 1, 3, 10, 12). Bad input — the file cannot
+// be read, is not JSON, has a number out of its field's range, or names a mode or transition the
+// system does not have — exits 2 with one line on stderr. A well-formed witness that is not a
+// valid execution (a piece longer than δt) exits 1 with one INVALID line. Every case ends
+// within seconds (a hang would hit the 30 s cap and exit 137).
+
+// A real witness of suite/method (extra: --set values), run in a scratch directory.
+fs::path witness_of_run(const fs::path& dir, const fs::path& io_dir, const Args& suite_and_method) {
+  fs::create_directories(dir);
+  Args args = {"run", "--trials", "1", "--threads", "1", "--db", "db.sqlite", "--witness-dir", "wit", "--quiet",
+               "--timeout", "60"};
+  args.insert(args.end(), suite_and_method.begin(), suite_and_method.end());
+  const Result r = run_hyfal(dir, io_dir, args);
+  EXPECT_EQ(r.code, 0) << r;
+  const auto files = files_with_suffix(dir / "wit", ".json");
+  EXPECT_EQ(files.size(), 1u) << r;
+  return files.empty() ? fs::path() : files.front();
+}
+
+// The witness text with the value at `pointer` replaced by the raw JSON text `raw` (which
+// may be something JSON cannot hold, like 1e999).
+std::string with_raw_value(const Json& witness, const std::string& pointer, const std::string& raw) {
+  Json j = witness;
+  j[Json::json_pointer(pointer)] = "@RAW@";
+  std::string text = j.dump(1);
+  const auto at = text.find("\"@RAW@\"");
+  return text.replace(at, 7, raw);
+}
+
+struct HostileCase {
+  std::string name;
+  const Json* witness;
+  std::string pointer, raw;
+  int code;                  // 2: bad input; 1: INVALID
+  std::string message_part;  // expected in the one line
+};
+
+TEST_F(CliTest, ValidateRejectsHostileWitnessesInOneLine) {
+  const fs::path thermostat = make_witness();
+  const fs::path navigation = witness_of_run(scratch() / "nav", io(), {"--suite", "navigation", "--method", "rrt"});
+  const fs::path aircraft = witness_of_run(scratch() / "air", io(), {"--suite", "aircraft", "--method", "rrft"});
+  ASSERT_FALSE(thermostat.empty() || navigation.empty() || aircraft.empty());
+  const Json th = Json::parse(read_text(thermostat)), nav = Json::parse(read_text(navigation)),
+             air = Json::parse(read_text(aircraft));
+  ASSERT_EQ(nav.at("instance").at("n"), 4) << "the 4x4 maze has modes 0..15";
+  ASSERT_EQ(air.at("instance").at("protocol"), "original") << "no left turns (mode 3) in the original protocol";
+
+  const std::vector<HostileCase> cases = {
+      // Item 1: modes out of range (segfaults and out-of-bounds reads before).
+      {"nav piece mode 1e12", &nav, "/pieces/0/mode", "1e12", 2, "pieces[0].mode = 1000000000000 is not a mode"},
+      {"nav piece mode 1e15", &nav, "/pieces/1/mode", "1e15", 2, "pieces[1].mode = 1000000000000000 is not a mode"},
+      {"nav piece mode -1", &nav, "/pieces/0/mode", "-1", 2, "'pieces[0].mode' = -1 is out of range"},
+      {"nav piece mode 17 in a 4x4 maze", &nav, "/pieces/2/mode", "17", 2, "pieces[2].mode = 17 is not a mode"},
+      {"nav piece mode 16", &nav, "/pieces/0/mode", "16", 2, "is not a mode"},
+      {"nav piece mode 0.5", &nav, "/pieces/0/mode", "0.5", 2, "out of range"},
+      {"nav piece mode 2^64", &nav, "/pieces/0/mode", "18446744073709551616", 2, "out of range"},
+      {"nav final mode 1e12", &nav, "/final/mode", "1e12", 2, "final.mode = 1000000000000 is not a mode"},
+      {"nav final mode -1", &nav, "/final/mode", "-1", 2, "'final.mode' = -1 is out of range"},
+      {"nav final mode 17", &nav, "/final/mode", "17", 2, "final.mode = 17 is not a mode"},
+      {"nav initial mode 1e15", &nav, "/initial/mode", "1e15", 2, "initial.mode = 1000000000000000 is not a mode"},
+      {"aircraft field 5 (no such per-aircraft mode)", &air, "/pieces/0/mode", "5", 2, "is not a mode"},
+      {"aircraft field 7 in the last aircraft", &air, "/pieces/0/mode", std::to_string(7ULL << 12), 2, "is not a mode"},
+      {"aircraft unused high bit", &air, "/pieces/0/mode", std::to_string(1ULL << 40), 2, "is not a mode"},
+      {"aircraft left turn under the original protocol", &air, "/final/mode", "3", 2, "is not a mode"},
+      {"aircraft mode -1", &air, "/pieces/0/mode", "-1", 2, "out of range"},
+      // Transition indices.
+      {"transition beyond the guards", &th, "/pieces/0/transition", "5", 2, "pieces[0].transition = 5"},
+      {"transition -2", &th, "/pieces/0/transition", "-2", 2, "out of range"},
+      {"transition 1e10", &th, "/pieces/0/transition", "1e10", 2, "out of range"},
+      // Item 3: durations (1e300 never ended, 1e7 took 35 s).
+      {"duration 1e300", &th, "/pieces/0/duration", "1e300", 1, "longer than any method extends a node"},
+      {"duration 1e7", &th, "/pieces/1/duration", "1e7", 1, "longer than any method extends a node"},
+      {"nav duration 1e300", &nav, "/pieces/3/duration", "1e300", 1, "longer than any method extends a node"},
+      {"duration -1", &th, "/pieces/0/duration", "-1", 2, "duration"},
+      // Item 10: numbers beyond double, in any field.
+      {"duration 1e999", &th, "/pieces/0/duration", "1e999", 2, "number overflow parsing '1e999'"},
+      {"state 1e999", &nav, "/initial/x/0", "-1e999", 2, "number overflow parsing '-1e999'"},
+      {"trial seed 1e30", &th, "/trial_seed", "1e30", 2, "'trial_seed' = 1e+30 is out of range"},
+      {"NaN text", &th, "/final/spec", "NaN", 2, "JSON error at byte"},
+      {"state of the wrong type", &th, "/initial/x/0", "\"2\"", 2, "'initial.x' has the wrong type"},
+      {"suite with a newline", &th, "/suite", "\"thermo\\nstat\"", 2, "unknown suite"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    write_text(work() / "w.json", with_raw_value(*c.witness, c.pointer, c.raw));
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r = hyfal({"validate", "w.json"}, 30);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.code, c.code) << r;
+    EXPECT_LT(seconds, 10.0) << r;
+    const std::string& line = c.code == 2 ? r.err : r.out;
+    EXPECT_EQ(lines(line).size(), 1u) << r;
+    EXPECT_TRUE(contains(line, c.message_part)) << "expected '" << c.message_part << "'\n" << r;
+    if (c.code == 2) {
+      EXPECT_EQ(r.err.rfind("hyfal: error: 'w.json': ", 0), 0u) << "names the file\n" << r;
+      EXPECT_EQ(r.out, "") << r;
+    } else {
+      EXPECT_EQ(r.out.rfind("INVALID: ", 0), 0u) << r;
+      EXPECT_EQ(r.err, "") << r;
+    }
+  }
+}
+
+// Item 10: a JSON syntax error names the byte, line and column; items 12: a directory and a
+// missing file say so (not "not valid JSON").
+TEST_F(CliTest, ValidateNamesWhereTheFileIsBroken) {
+  write_text(work() / "broken.json", "{\n  \"format\": \"hyfal-witness/1\",\n  \"suite\": thermostat\n}\n");
+  const Result syntax = hyfal({"validate", "broken.json"}, 30);
+  EXPECT_EQ(syntax.code, 2) << syntax;
+  EXPECT_EQ(lines(syntax.err).size(), 1u) << syntax;
+  EXPECT_TRUE(contains(syntax.err, "'broken.json': JSON error at byte 46 (line 3, column 13)")) << syntax;  // at 'h' of th...
+
+  fs::create_directories(work() / "adir");
+  for (const std::string dir : {".", "adir"}) {
+    const Result r = hyfal({"validate", dir}, 30);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(r.err, "hyfal: error: '" + dir + "' is a directory, not a file\n") << r;
+  }
+  const Result missing = hyfal({"validate", "missing.json"}, 30);
+  EXPECT_EQ(missing.code, 2) << missing;
+  EXPECT_EQ(missing.err, "hyfal: error: cannot read 'missing.json': No such file or directory\n") << missing;
+}
+
 }  // namespace
