@@ -377,6 +377,7 @@ class Rrft final : public Planner {
           t.x_new.swap(t.candidate);
         }
       }
+      if (t.prop->interrupted()) return;  // the deadline passed mid-extension: not a stall
       if (best == std::numeric_limits<double>::infinity()) {  // no input made progress
         ++near_info.failed_extensions;
         ++t.failed_streak;
