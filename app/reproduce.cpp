@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -79,7 +80,47 @@ void check_directory_creatable(const std::string& dir, const std::string& what) 
   }
 }
 
+void check_output_path(const std::string& path, const std::string& what) {
+  if (path.empty()) throw UsageError(fmt::format("{} '': an empty path is not allowed", what));
+  if (path.find('\0') != std::string::npos) throw UsageError(fmt::format("{}: the path holds a NUL byte", what));
+}
+
+void check_experiment_name(const std::string& name) {
+  const auto bad = [&](const std::string& why) {
+    return UsageError(fmt::format("--experiment '{}': {} (allowed: letters, digits, '.', '_', '-', '+', and '/' "
+                                  "between non-empty parts other than '.' and '..'; at most {} characters)",
+                                  name, why, kMaxExperimentName));
+  };
+  if (name.empty()) throw bad("empty");
+  if (name.size() > kMaxExperimentName) throw bad("too long");
+  for (const char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' || c == '+' || c == '/'))
+      throw bad(fmt::format("character '{}' is not allowed", std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c)
+                                                                                                      : fmt::format("\\x{:02x}", static_cast<unsigned char>(c))));
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t slash = name.find('/', start);
+    const std::string part = name.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+    if (part.empty()) throw bad("empty part (leading, trailing or doubled '/')");
+    if (part == "." || part == "..") throw bad(fmt::format("part '{}' would leave the witness folder", part));
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+}
+
 // --- shared by run and reproduce --------------------------------------------------------------
+
+void overlay_settings(Settings& base, const Settings& layer) {
+  for (const auto& kv : layer) {
+    bool replaced = false;
+    for (auto& b : base)
+      if (b.first == kv.first) {
+        b.second = kv.second;
+        replaced = true;
+      }
+    if (!replaced) base.push_back(kv);
+  }
+}
 
 bool TrialGroup::contains(const TrialRecord& r) const {
   return r.key.experiment == base.experiment && r.key.suite == base.suite && r.key.instance == base.instance &&
@@ -108,6 +149,14 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
     g.system = suite->make(g.instance);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
+  }
+  // The method's own checks (relations between options, what it needs of the system) run here,
+  // once, so that a bad combination is reported before the database is opened, not per trial.
+  try {
+    if (method->check_system) method->check_system(*g.system, g.options);
+    (void)method->make(g.options);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("method '{}' on suite '{}': {}", method->name, suite->name, e.what()));
   }
   g.config = {{"master_seed", spec.seed}, {"max_nodes", spec.max_nodes}, {"timeout_s", spec.timeout_s},
               {"options", g.options}};
@@ -246,12 +295,11 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
           spec.experiment = experiment;
           spec.suite = suite;
           spec.method = method;
-          spec.settings = profile.settings;  // later settings win in resolve_options
-          if (!sw.blocks.empty())
-            spec.settings.insert(spec.settings.end(), sw.blocks[b].settings.begin(), sw.blocks[b].settings.end());
-          spec.settings.insert(spec.settings.end(), sw.columns[c].settings.begin(), sw.columns[c].settings.end());
-          if (!sw.instance_key.empty()) spec.settings.emplace_back(sw.instance_key, std::to_string(k));
-          spec.settings.insert(spec.settings.end(), row.settings.begin(), row.settings.end());
+          spec.settings = profile.settings;  // then block, column, instance and row: later layers win
+          if (!sw.blocks.empty()) overlay_settings(spec.settings, sw.blocks[b].settings);
+          overlay_settings(spec.settings, sw.columns[c].settings);
+          if (!sw.instance_key.empty()) overlay_settings(spec.settings, {{sw.instance_key, std::to_string(k)}});
+          overlay_settings(spec.settings, row.settings);
           spec.trials = profile.trials;
           spec.timeout_s = profile.timeout_s;
           spec.max_nodes = profile.max_nodes;
@@ -319,6 +367,10 @@ int cmd_reproduce(const ReproduceArgs& a) {
                                  table->id, a.profile));
   if (table->rows.empty()) throw UsageError(fmt::format("table '{}' has no rows", table->id));
   const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
+  check_output_path(a.db, "--db");
+  check_output_path(a.witness_dir, "--witness-dir");
+  check_output_path(a.out_dir, "--out-dir");
+  check_experiment_name(experiment);
   check_directory_creatable(a.out_dir, "--out-dir");
   check_directory_creatable(a.witness_dir, "--witness-dir");
   if (table->sweep) return reproduce_sweep(a, suite, *table, profile, experiment);
@@ -333,8 +385,8 @@ int cmd_reproduce(const ReproduceArgs& a) {
     spec.experiment = experiment;
     spec.suite = suite;
     spec.method = method;
-    spec.settings = profile.settings;  // then the row's own: later wins in resolve_options
-    spec.settings.insert(spec.settings.end(), row.settings.begin(), row.settings.end());
+    spec.settings = profile.settings;  // then the row's own, which wins
+    overlay_settings(spec.settings, row.settings);
     spec.trials = profile.trials;
     spec.timeout_s = profile.timeout_s;
     spec.max_nodes = profile.max_nodes;

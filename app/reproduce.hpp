@@ -31,6 +31,23 @@ void write_file_atomic(const std::string& path, const std::string& text);
 // deepest existing ancestor is a writable directory). Creates nothing.
 void check_directory_creatable(const std::string& dir, const std::string& what);
 
+// Applies `layer` on top of `base`: a key already in base takes the layer's value (paper tables
+// stack profile, block, column and row settings this way); a user's own --set list instead must
+// name each key once (resolve_options refuses a repeated key).
+void overlay_settings(Settings& base, const Settings& layer);
+
+// Limits of the run options, documented in `hyfal run --help` and the README.
+constexpr long long kMaxTrials = 1'000'000;   // trial indices per group
+constexpr long long kMaxThreads = 1024;       // oneTBB arena size (0 = all cores)
+constexpr std::size_t kMaxExperimentName = 200;
+
+// Throws UsageError unless path is a usable path for an output (non-empty, no NUL).
+void check_output_path(const std::string& path, const std::string& what);
+
+// Experiment names become folders under --witness-dir: letters, digits, '.', '_', '-', '+', and
+// '/' between non-empty parts that are not '.' or '..'. Throws UsageError naming the problem.
+void check_experiment_name(const std::string& name);
+
 // One group of trials: a suite instance, a method with its options, limits and a master seed.
 struct TrialGroupSpec {
   std::string experiment = "default";

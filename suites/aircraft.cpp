@@ -603,6 +603,7 @@ Parsed parse(const Json& instance) {
   k.c = instance.at("c").get<double>();
   k.d = instance.at("d").get<double>();
   const double w = instance.at("w").get<double>();
+  if (w < 0.0 && w != -1.0) throw std::invalid_argument("aircraft: w must be >= 0, or -1 for the example's wind bound");
   k.w = w >= 0.0 ? w : (r.random ? 0.1 : 0.03);
   r.o.step = instance.at("step").get<double>();
   r.o.max_step = instance.at("max_step").get<double>();
@@ -733,19 +734,19 @@ SuiteEntry aircraft_suite() {
       "seed 003 Sect. 6.1 / seed 002 Sect. 4.2: N aircraft, conflict-resolution protocol (original or safer), "
       "wind input; unsafe = two aircraft within d";
   e.parameters = {
-      {"example", "esposito5", "esposito5 (seed 003 Example 1, 5 aircraft) | random (seed 002 Sect. 4.2.2)"},
-      {"protocol", "original", "original (always -90°) | safer (seed 002 Sect. 4.2.1)"},
-      {"N", 10, "random: number of aircraft, 2..21"},
-      {"seed", 1, "random: instance seed"},
-      {"p", 5.25, "protect radius (avoid when closer), km; esposito5: the default of P = [4.5, 5.5]"},
-      {"d", 1.0, "collision distance, km"},
-      {"v", 0.3, "forward speed, km/s"},
-      {"c", 0.03, "turn rate of the half circle, rad/s"},
-      {"w", -1.0, "wind bound, u in [-w, w]^2 km/s; -1: the example's (esposito5 0.03, random 0.1)"},
-      {"step", 20.0, "duration δt of one tree extension, s"},
-      {"max_step", 0.5, "largest Dormand-Prince step (events shorter than this may be missed), s"},
-      {"input_levels", 3, "points per wind component in Ū (grid, endpoints included)"},
-      {"lookahead", 20.0, "HyDICE regions: bands of the closest approach predicted this far ahead (straight flight), s"}};
+      {"example", "esposito5", "esposito5 (seed 003 Example 1, 5 aircraft) | random (seed 002 Sect. 4.2.2)", "esposito5|random"},
+      {"protocol", "original", "original (always -90°) | safer (seed 002 Sect. 4.2.1)", "original|safer"},
+      {"N", 10, "random: number of aircraft, 2..21", "[2, 21]"},
+      {"seed", 1, "random: instance seed", "[0, inf)"},
+      {"p", 5.25, "protect radius (avoid when closer), km; esposito5: the default of P = [4.5, 5.5]", "(0, 1000]"},
+      {"d", 1.0, "collision distance, km", "(0, 1000]"},
+      {"v", 0.3, "forward speed, km/s", "(0, 10]"},
+      {"c", 0.03, "turn rate of the half circle, rad/s", "(0, 10]"},
+      {"w", -1.0, "wind bound, u in [-w, w]^2 km/s; -1: the example's (esposito5 0.03, random 0.1)", "[-1, 10]"},
+      {"step", 20.0, "duration δt of one tree extension, s", "[0.1, 1000]"},
+      {"max_step", 0.5, "largest Dormand-Prince step (events shorter than this may be missed), s", "[0.0001, 100]"},
+      {"input_levels", 3, "points per wind component in Ū (grid, endpoints included)", "[2, 11]"},
+      {"lookahead", 20.0, "HyDICE regions: bands of the closest approach predicted this far ahead (straight flight), s", "[0, 1000]"}};
   e.make = make_aircraft;
   e.export_instance = export_aircraft;
   e.tables = {esposito_aircraft(), plaku_table2()};

@@ -580,6 +580,10 @@ Parsed parse(const Json& instance) {
   if (!(p.step > 0.0)) throw std::invalid_argument("navigation: step must be > 0");
   if (!(p.integration_step > 0.0 && p.integration_step <= p.step))
     throw std::invalid_argument("navigation: integration_step must be in (0, step]");
+  // Bounds the integration work of one propagation (a tiny integration_step must not make one
+  // extension take minutes).
+  if (p.step / p.integration_step > 1e4)
+    throw std::invalid_argument("navigation: step / integration_step must be <= 10000");
   if (p.levels < 2 || p.levels > 21) throw std::invalid_argument("navigation: input_levels must be in [2, 21]");
   return p;
 }
@@ -720,15 +724,15 @@ PaperTable plaku_table1() {
 SuiteEntry navigation_suite() {
   return {"navigation",
           "seed 002 Sect. 4.1: n x n terrains (SCar/SUni/SDDrive), Kruskal maze walls; reach the unsafe terrain",
-          {{"n", 4, "terrains per side (|Q| = n^2 modes), 2..4096"},
-           {"seed", 1, "instance seed: dynamics per terrain, walls, the 40 properties"},
-           {"driver", "random", "driver model: random | student | highway (for planners that use it)"},
-           {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39"},
-           {"terrain_size", 1.0, "side of one terrain, m"},
-           {"step", 2.0, "duration T of one tree extension, s"},
-           {"integration_step", 0.01, "RK4 step ε, s"},
-           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"},
-           {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)"}},
+          {{"n", 4, "terrains per side (|Q| = n^2 modes), 2..4096", "[2, 4096]"},
+           {"seed", 1, "instance seed: dynamics per terrain, walls, the 40 properties", "[0, inf)"},
+           {"driver", "random", "driver model: random | student | highway (for planners that use it)", "random|student|highway"},
+           {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39", "[0, 39]"},
+           {"terrain_size", 1.0, "side of one terrain, m", "[0.01, 1000]"},
+           {"step", 2.0, "duration T of one tree extension, s", "[0.01, 100]"},
+           {"integration_step", 0.01, "RK4 step ε, s", "[1e-5, 10]"},
+           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)", "[2, 21]"},
+           {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)", "rad|deg"}},
           make_navigation,
           {plaku_table1()},
           navigation_instance_json};

@@ -410,6 +410,45 @@ std::vector<BadCase> bad_cases() {
   add("SetNumberOverflow", run_out({"--suite", "thermostat", "--trials", "1", "--set", "step=1e400"}));
   add("SetIntegerOverflow",
       run_out({"--suite", "thermostat", "--trials", "1", "--set", "input_levels=100000000000"}));
+  // run: method options are checked against their declared ranges before anything is written
+  add("MethodOptionChoiceUnknown", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "selection=bogus"}));
+  add("MethodOptionBelowRange", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "k=-5"}));
+  add("MethodOptionHuge", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "k=2000000000"}));
+  add("MethodOptionRelation", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "sigma_min=0.6"}));
+  add("DstarBoxesZero", run_out({"--suite", "thermostat", "--method", "rrt-dstar", "--set", "boxes=0"}));
+  add("HydiceTSigmaZero", run_out({"--suite", "navigation", "--method", "hydice", "--set", "t_sigma=0"}));
+  add("HydiceControlsZero", run_out({"--suite", "navigation", "--method", "hydice", "--set", "controls=0"}));
+  add("HydiceShortestProbabilityTwo",
+      run_out({"--suite", "navigation", "--method", "hydice", "--set", "shortest_probability=2"}));
+  add("HydiceInputsUnknown", run_out({"--suite", "navigation", "--method", "hydice", "--set", "inputs=gaussian"}));
+  add("HydiceWithoutDecomposition", run_out({"--suite", "thermostat", "--method", "hydice"}));
+  add("NoLeadsWithoutDecomposition", run_out({"--suite", "hovercraft", "--method", "hydice-noleads"}));
+  add("RrftNtZero", run_out({"--suite", "thermostat", "--method", "rrft", "--set", "n_t=0"}));
+  add("RrtHasNoOptions", run_out({"--suite", "thermostat", "--method", "rrt", "--set", "k=3"}));
+  // run: suite parameters: ranges, sizes, relations
+  add("InputLevelsHuge", run_out({"--suite", "guard-intruder", "--set", "input_levels=100000"}));
+  add("Rk4StepTiny", run_out({"--suite", "guard-intruder", "--set", "rk4_step=1e-300", "--timeout", "5"}));
+  add("IntegrationStepTiny", run_out({"--suite", "navigation", "--set", "integration_step=1e-300"}));
+  add("IntegrationStepRatio", run_out({"--suite", "navigation", "--set", "integration_step=0.0001"}));
+  add("DriverUnknown", run_out({"--suite", "navigation", "--set", "driver=racer"}));
+  add("PropertyOutOfRange", run_out({"--suite", "navigation", "--set", "property=40"}));
+  add("AircraftWindBetween", run_out({"--suite", "aircraft", "--set", "w=-0.5"}));
+  add("SetRepeated", run_out({"--suite", "thermostat", "--set", "step=0.1", "--set", "step=0.2"}));
+  // run: sizes of the run itself
+  add("TrialsHuge", run_out({"--suite", "thermostat", "--trials", "2147483647"}));
+  add("ThreadsHuge", run_out({"--suite", "thermostat", "--threads", "100000"}));
+  // run: names and paths
+  add("DbEmpty", run_args({"--db", "", "--witness-dir", "out/wit"}));
+  add("WitnessDirEmpty", run_args({"--db", "out/db.sqlite", "--witness-dir", ""}));
+  add("ExperimentEscapes", run_out({"--suite", "thermostat", "--experiment", "../../escaped"}));
+  add("ExperimentAbsolute", run_out({"--suite", "thermostat", "--experiment", "/tmp/x"}));
+  add("ExperimentDotPart", run_out({"--suite", "thermostat", "--experiment", "a/./b"}));
+  add("ExperimentSpace", run_out({"--suite", "thermostat", "--experiment", "my run"}));
+  add("ExperimentEmpty", run_out({"--suite", "thermostat", "--experiment", ""}));
+  add("ReproduceDbEmpty", {"reproduce", "kim-table1", "--profile", "smoke", "--db", "", "--out-dir", "out/t"});
+  add("ReproduceThreadsHuge", {"reproduce", "kim-table1", "--profile", "smoke", "--threads", "5000", "--db",
+                               "out/db.sqlite", "--out-dir", "out/t", "--witness-dir", "out/w"});
+  add("InstanceExportBadRange", {"instance", "export", "--suite", "navigation", "--set", "n=1"});
   // run: paths
   add("DbUnderProc", run_args({"--db", "/proc/forbidden/x.sqlite", "--witness-dir", "out/wit"}));
   add("DbParentIsRegularFile", run_args({"--db", "plain/x.sqlite", "--witness-dir", "out/wit"}), plain_file);
@@ -794,6 +833,19 @@ TEST_F(CliTest, ListShowsSuitesMethodsAndSettings) {
   EXPECT_TRUE(contains(r.out, "--set sample_window=")) << r;
   EXPECT_EQ(r.err, "") << r;
   EXPECT_TRUE(fs::is_empty(work())) << "list writes nothing";
+}
+
+// The README's parameter table is `hyfal list --markdown`: every setting with its valid values.
+TEST_F(CliTest, ReadmeListsEverySettingWithItsRange) {
+  const Result r = hyfal({"list", "--markdown"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "| method `enhanced-rrt` | `k` | `10` | [1, 1000] |")) << r.out;
+  EXPECT_TRUE(contains(r.out, "| suite `navigation` | `driver` | `\"random\"` | random\\|student\\|highway |")) << r.out;
+  const std::string readme = read_text(fs::path(HYFAL_SOURCE_DIR) / "README.md");
+  EXPECT_TRUE(contains(readme, r.out)) << "README.md must hold the output of 'hyfal list --markdown' verbatim";
+  const Result list = hyfal({"list"});
+  EXPECT_TRUE(contains(list.out, "--set shortest_probability=0.9")) << list.out;
+  EXPECT_TRUE(contains(list.out, "[0, 1]")) << list.out;
 }
 
 TEST_F(CliTest, HelpMentionsOptions) {

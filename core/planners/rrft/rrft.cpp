@@ -159,6 +159,13 @@ struct ForestTree {
   NamedSeries coverage_series, growth_series;
 };
 
+// g(T) and D(T) (seed 003 eq. 3) are measured on the suite's coverage grid.
+void check_rrft_system(const System& sys, const Json&) {
+  if (!(sys.info().coverage.spacing > 0.0))
+    throw std::invalid_argument(fmt::format("suite '{}' defines no coverage grid, which RRFT needs for c(T), g(T)",
+                                            sys.info().suite));
+}
+
 class Rrft final : public Planner {
  public:
   explicit Rrft(RrftOptions o) : o_(o) {}
@@ -166,8 +173,7 @@ class Rrft final : public Planner {
   PlannerOutcome solve(const PlannerContext& ctx) override {
     const System& sys = ctx.system;
     const SystemInfo& info = sys.info();
-    if (!(info.coverage.spacing > 0.0))
-      throw std::invalid_argument(fmt::format("rrft: suite '{}' defines no coverage grid (needed for c(T), g(T))", info.suite));
+    check_rrft_system(sys, Json());
     PlannerOutcome out;
     const WeightedEuclidean metric(info.metric_weights);
     const SearchBudget budget(ctx);
@@ -415,16 +421,17 @@ MethodEntry rrft_method() {
   return {"rrft",
           "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
           "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
-          {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)"},
-           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)"},
-           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)"},
-           {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min"},
-           {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min"},
-           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled"},
-           {"max_seeds", 64, "at most this many seeds (trees) per trial"},
+          {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
+           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)", "[1, 100000]"},
+           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},
+           {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min", "[0, 1]"},
+           {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min", "[0, 1]"},
+           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled", "[1, 10000000]"},
+           {"max_seeds", 64, "at most this many seeds (trees) per trial", "[1, 4096]"},
            {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
-           {"series_every", 50, "tree nodes between points of the coverage/growth series"}},
-          [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); }};
+           {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"}},
+          [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
+          check_rrft_system};
 }
 
 }  // namespace hyfal
