@@ -47,19 +47,20 @@ enum class Selection { metric, t2go };
 enum class History { none, tree, knn };
 enum class Sampling { uniform, medium, heavy, adaptive };
 
+// Defaults and ranges are declared once, in enhanced_rrt_method(); parse_options fills every field.
 struct EnhancedOptions {
-  Selection selection = Selection::metric;
-  History history = History::none;
-  Sampling sampling = Sampling::uniform;
-  int k = 10;
-  double sigma_min = 0.05, sigma_max = 0.5;
-  int n_s = 50;
-  int coverage_window = 0;
-  double delta_c_min = 1e-4;
-  std::int64_t coverage_at = 5000;
-  int series_every = 100;
-  bool record_failed_extensions = false;
-  bool t2go_inputs = true;
+  Selection selection;
+  History history;
+  Sampling sampling;
+  int k;
+  double sigma_min, sigma_max;
+  int n_s;
+  int coverage_window;
+  double delta_c_min;
+  std::int64_t coverage_at;
+  int series_every;
+  bool record_failed_extensions;
+  bool t2go_inputs;
 };
 
 template <class E>
@@ -73,7 +74,7 @@ E parse_choice(const Json& o, const char* key, std::initializer_list<std::pair<c
 }
 
 EnhancedOptions parse_options(const Json& o) {
-  EnhancedOptions e;
+  EnhancedOptions e{};
   e.selection = parse_choice<Selection>(o, "selection", {{"metric", Selection::metric}, {"t2go", Selection::t2go}});
   e.history = parse_choice<History>(o, "history", {{"none", History::none}, {"tree", History::tree}, {"knn", History::knn}});
   e.sampling = parse_choice<Sampling>(o, "sampling", {{"uniform", Sampling::uniform}, {"medium", Sampling::medium},
