@@ -362,8 +362,10 @@ bool existing_database_file(const std::string& path) {
 
 void remove_unused_wal_files(const std::string& path) noexcept;
 
-// A read-only connection to an existing database file. If its -wal/-shm files were absent
-// before it opened (so that it may have made them), they are removed once it has closed.
+// A read-only connection to an existing database file. A read-only connection in WAL mode
+// creates the -wal (empty) and -shm files when they are missing, and cannot delete them when it
+// closes (SQLite's last writer does): once it has closed, they are removed (see
+// remove_unused_wal_files).
 class ReadOnlyConnection {
  public:
   explicit ReadOnlyConnection(const std::string& path);
@@ -371,26 +373,25 @@ class ReadOnlyConnection {
   ReadOnlyConnection& operator=(const ReadOnlyConnection&) = delete;
   ~ReadOnlyConnection() {
     connection_.reset();
-    if (wal_files_were_absent_) remove_unused_wal_files(path_);
+    if (may_leave_wal_files_) remove_unused_wal_files(path_);
   }
 
   sqlite3* get() const { return connection_.get(); }
   // Hands the connection over; whoever closes it must then remove the -wal/-shm files of the
   // returned path, unless it is empty.
   std::pair<sqlite3*, std::string> release() {
-    const bool cleanup = std::exchange(wal_files_were_absent_, false);
+    const bool cleanup = std::exchange(may_leave_wal_files_, false);
     return {connection_.release(), cleanup ? path_ : std::string()};
   }
 
  private:
   std::string path_;
-  bool wal_files_were_absent_ = false;
+  bool may_leave_wal_files_ = false;  // false when read as immutable (no -wal/-shm at all)
   RawConnection connection_{nullptr, &sqlite3_close_v2};
 };
 
 ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
-  const std::string wal = path + "-wal", shm = path + "-shm";
-  wal_files_were_absent_ = !path_exists(wal) && !path_exists(shm);
+  const std::string wal = path + "-wal";
   const std::filesystem::path parent = std::filesystem::absolute(std::filesystem::path(path)).parent_path();
   const bool writable = ::access(path.c_str(), W_OK) == 0 && ::access(parent.c_str(), W_OK) == 0;
   // Without a -wal file no connection has the database open, and one that cannot write it
@@ -399,12 +400,14 @@ ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
   const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_URI;
   connection_ = open_connection(path, sqlite_uri(path, immutable ? "mode=ro&immutable=1" : "mode=ro"), flags);
   if (immutable) return;
+  may_leave_wal_files_ = true;
   // The first read opens the WAL index (-shm); where it cannot be created (a read-only folder)
   // SQLite fails with SQLITE_CANTOPEN, and the file is read as immutable instead.
   const int rc = sqlite3_exec(connection_.get(), "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
   if ((rc & 0xff) == SQLITE_CANTOPEN || rc == SQLITE_READONLY_CANTINIT || rc == SQLITE_READONLY_RECOVERY ||
       rc == SQLITE_READONLY_DIRECTORY) {
     connection_ = open_connection(path, sqlite_uri(path, "mode=ro&immutable=1"), flags);
+    may_leave_wal_files_ = false;
   } else if ((rc & 0xff) == SQLITE_NOTADB) {
     throw_not_hyfal(path, sqlite3_errmsg(connection_.get()));
   } else if (rc != SQLITE_OK) {
@@ -412,12 +415,18 @@ ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
   }
 }
 
-// Removes the -wal and -shm files of path if no connection uses them: a read-write connection
-// that reads one page and closes does exactly that (SQLite checkpoints an empty WAL, which
-// writes nothing, and deletes both files when it closes last). It takes no lock that a writer
-// would wait on: if another connection has the database open, it leaves the files to it.
+// Removes the -wal and -shm files of path if they hold nothing and no connection uses them: a
+// read-write connection that reads one page and closes does exactly that (SQLite checkpoints
+// the empty WAL, which writes nothing to the database, and deletes both files when it closes
+// as the last connection). It takes no lock that a writer would wait on: if another connection
+// has the database open, it leaves the files to it. A -wal with content (a crashed writer's) is
+// left for the next writer to recover: a reader does not write.
 void remove_unused_wal_files(const std::string& path) noexcept {
-  if (!path_exists(path + "-wal") && !path_exists(path + "-shm")) return;
+  std::error_code error;
+  const std::string wal = path + "-wal";
+  const bool wal_exists = std::filesystem::exists(wal, error);
+  if (wal_exists && std::filesystem::file_size(wal, error) != 0) return;
+  if (error || (!wal_exists && !path_exists(path + "-shm"))) return;
   if (::access(path.c_str(), W_OK) != 0) return;
   sqlite3* raw = nullptr;
   if (sqlite3_open_v2(sqlite_uri(path, "mode=rw").c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_URI,
