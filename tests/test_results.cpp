@@ -584,6 +584,24 @@ TEST_F(TrialStoreTest, ReaderWorksInAReadOnlyFolderAndOnAReadOnlyFile) {
   EXPECT_EQ(file_bytes(path), before);
 }
 
+TEST_F(TrialStoreTest, PermissionLostMidRunIsAnEnvironmentError) {
+  auto store = TrialStore::open(database_path());
+  store.insert(make_record("rrt", 0));
+  ASSERT_TRUE(fs::exists(database_path() + "-wal"));
+  {
+    const Immutable lock(database_path() + "-wal");  // the log the next commit must append to
+    if (!lock.set()) GTEST_SKIP() << "chattr +i is not available here";
+    try {
+      store.insert(make_record("rrt", 1));
+      ADD_FAILURE() << "committed to an unwritable log";
+    } catch (const StoreError& error) {
+      EXPECT_EQ(error.kind(), StoreErrorKind::environment) << error.what();
+    }
+  }
+  EXPECT_NO_THROW(store.insert(make_record("rrt", 1))) << "the store works again once it may write";
+  EXPECT_EQ(store.load().size(), 2u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Claims: several processes on one experiment run each trial once.
 
