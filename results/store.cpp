@@ -580,7 +580,8 @@ TrialStore TrialStore::open(const std::string& path) {
   } else {
     create_parent_directories(path);
   }
-  RawConnection raw = open_connection(path, path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  RawConnection raw =
+      open_connection(path, sqlite_uri(path, "mode=rwc"), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_URI);
   Connection connection(raw.release());
   configure(connection.get(), path);
   // Another process may have filled an empty file in between: check what we now write to.
