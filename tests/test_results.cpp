@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -95,9 +96,9 @@ class TrialStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    directory_ = fs::temp_directory_path() /
-                 fmt::format("hyfal_test_results_{}_{}_{}", ::getpid(), test->test_suite_name(),
-                             test->name());
+    std::string name = fmt::format("hyfal_test_results_{}_{}_{}", ::getpid(), test->test_suite_name(), test->name());
+    std::replace(name.begin(), name.end(), '/', '_');  // parameterized tests: Suite/Test/Param
+    directory_ = fs::temp_directory_path() / name;
     fs::remove_all(directory_);
     fs::create_directories(directory_);
   }
