@@ -143,14 +143,7 @@ int cmd_run(const RunArgs& a) {
                a.trials, a.db);
 
   const EngineOptions eo = cli::make_engine_options(a.threads, a.witness_dir, !a.quiet && isatty(STDERR_FILENO));
-  std::size_t errors = 0;
-  run_trials(jobs, eo, [&](const TrialRecord& r) {
-    store.insert(r);
-    if (r.status == TrialStatus::error) {
-      ++errors;
-      fmt::print(stderr, "[hyfal] trial {} error: {}\n", r.key.trial_index, r.error);
-    }
-  });
+  const cli::JobsRun jobs_run = cli::run_jobs(jobs, store, eo);
 
   std::vector<TrialRecord> rows;
   for (auto& r : store.load(a.experiment))
@@ -161,17 +154,17 @@ int cmd_run(const RunArgs& a) {
     std::size_t validated = 0;
     for (const auto& r : rows) validated += r.validated;
     fmt::print("\n{} trials ({} run now), {} witnesses validated; threads {}; database {}; witnesses under {}\n",
-               rows.size(), jobs.size(), validated, a.threads > 0 ? a.threads : default_thread_count(), a.db,
+               rows.size(), jobs_run.run_now, validated, a.threads > 0 ? a.threads : default_thread_count(), a.db,
                a.witness_dir);
   }
-  return errors ? 1 : 0;
+  return jobs_run.errors ? 1 : 0;
 }
 
 // --- table ------------------------------------------------------------------------------------
 int cmd_table(const std::string& db, const std::string& experiment, const std::string& format,
               const std::string& output) {
   if (!fs::exists(db)) throw UsageError(fmt::format("no results database at '{}'", db));
-  TrialStore store = TrialStore::open(db);
+  TrialStore store = TrialStore::open_read_only(db);
   const auto rows = store.load(experiment.empty() ? std::nullopt : std::optional<std::string>(experiment));
   const auto groups = summarize_trials(rows);
   write_output(output, format == "csv" ? to_csv(groups) : to_markdown(groups));
@@ -385,7 +378,10 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const StoreError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return 2;
+    return e.kind() == StoreErrorKind::environment ? 3 : 2;  // 3: the machine failed, not the input
+  } catch (const EnvironmentError& e) {
+    fmt::print(stderr, "hyfal: error: {} (the run stopped; rerun the same command to resume)\n", e.what());
+    return 3;
   } catch (const std::exception& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 1;

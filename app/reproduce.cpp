@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <thread>
 #include <utility>
 
 #include <fmt/format.h>
@@ -191,6 +192,56 @@ EngineOptions make_engine_options(int threads, const std::string& witness_dir, b
   return eo;
 }
 
+JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const EngineOptions& engine) {
+  JobsRun result;
+  if (jobs.empty()) return result;
+  const ClaimOwner& owner = ClaimOwner::this_process();
+  const ClaimHeartbeat heartbeat(store.path(), owner);  // releases this process's claims when it ends
+  std::vector<TrialKey> keys;
+  keys.reserve(jobs.size());
+  for (const TrialJob& job : jobs) keys.push_back(job.key);
+
+  const auto sink = [&](const TrialRecord& r) {
+    try {
+      store.insert(r);
+    } catch (const StoreError& e) {
+      // Stored meanwhile by another process that took this one's claim for stale (no heartbeat
+      // for kClaimStaleAfter): the same trial with the same seed, so the stored row stands.
+      if (e.kind() != StoreErrorKind::bad_input || !store.is_stored(r.key)) throw;
+      return;
+    }
+    ++result.run_now;
+    if (r.status == TrialStatus::error)
+      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
+  };
+  const auto claim = [&](const TrialJob& job) { return store.claim(job.key, owner); };
+
+  std::vector<TrialJob> pending = jobs;
+  bool waited = false;
+  for (;;) {
+    if (!pending.empty()) run_trials(pending, engine, sink, claim);
+    pending.clear();
+    const std::vector<TrialProgress> states = store.progress(keys, owner);
+    std::size_t running_elsewhere = 0;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+      if (states[i] == TrialProgress::needs_runner) pending.push_back(jobs[i]);
+      running_elsewhere += states[i] == TrialProgress::claimed_by_other;
+    }
+    if (!pending.empty()) continue;  // their owner is gone: run them here
+    if (running_elsewhere == 0) {
+      result.errors = static_cast<std::size_t>(std::count(states.begin(), states.end(), TrialProgress::stored_error));
+      break;
+    }
+    if (engine.progress) {
+      fmt::print(stderr, "\r[hyfal] waiting for {} trials that other processes are running   ", running_elsewhere);
+      waited = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  if (waited) fmt::print(stderr, "\n");
+  return result;
+}
+
 std::vector<TableRef> all_tables() {
   std::vector<TableRef> refs;
   for (const SuiteEntry& s : all_suites())
@@ -237,16 +288,11 @@ TableTrials run_table_trials(const std::vector<const TrialGroup*>& groups, Trial
   }
   TableTrials t{make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0)};
   t.total = seen.size() * static_cast<std::size_t>(trials_per_group);
-  t.run_now = jobs.size();
   if (stored_count > 0)
     fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, t.total, a.db);
-  run_trials(jobs, t.engine, [&](const TrialRecord& r) {
-    store.insert(r);
-    if (r.status == TrialStatus::error) {
-      ++t.errors;
-      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
-    }
-  });
+  const JobsRun jobs_run = run_jobs(jobs, store, t.engine);
+  t.run_now = jobs_run.run_now;
+  t.errors = jobs_run.errors;
   return t;
 }
 

@@ -82,6 +82,22 @@ std::vector<TrialJob> prepare_jobs(const TrialGroup& group, const std::set<std::
 // Engine options both commands use (host, git commit, progress on a terminal).
 EngineOptions make_engine_options(int threads, const std::string& witness_dir, bool progress);
 
+// What run_jobs did.
+struct JobsRun {
+  std::size_t run_now = 0;  // trials this process ran and stored
+  std::size_t errors = 0;   // jobs stored with status error at the end (by this or another process)
+};
+
+// Runs `jobs` into `store` so that several processes started on the same jobs and database
+// cooperate (both `run` and `reproduce` run their trials through it). Each job is claimed in
+// the database right before it starts; one that another live process has claimed, or stored,
+// is skipped. Afterwards, jobs that are neither stored nor claimed by a live process (their
+// owner died: kill -9, a lost host) are run here, and jobs that other processes still run are
+// waited for (polling every 0.2 s, with a note on a terminal), until every job is stored. Prints
+// one line per trial that ended in error here. Throws what the engine throws (EnvironmentError,
+// StoreError), after stopping the trials in flight and releasing this process's claims.
+JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const EngineOptions& engine);
+
 struct ReproduceArgs {
   std::string id, profile;
   int threads = 0;
