@@ -164,6 +164,11 @@ int cmd_run(const RunArgs& a) {
 int cmd_table(const std::string& db, const std::string& experiment, const std::string& format,
               const std::string& output) {
   if (!fs::exists(db)) throw UsageError(fmt::format("no results database at '{}'", db));
+  if (!output.empty() && output != "-") {
+    if (fs::is_directory(output)) throw UsageError(fmt::format("-o '{}' is a directory", output));
+    const fs::path parent = fs::path(output).parent_path();
+    cli::check_directory_creatable(parent.empty() ? "." : parent.string(), "-o");
+  }
   TrialStore store = TrialStore::open_read_only(db);
   const auto rows = store.load(experiment.empty() ? std::nullopt : std::optional<std::string>(experiment));
   const auto groups = summarize_trials(rows);

@@ -24,7 +24,9 @@ struct UsageError : std::runtime_error {
 std::string git_commit();
 
 // Writes text to path through path.tmp and a rename, creating parent directories. Throws
-// UsageError (one line) if it cannot; no .tmp file is left behind.
+// EnvironmentError (one line: disk full, I/O error, permission lost; exit 3) if it cannot — a
+// caller checks the folder first (check_directory_creatable) so that a bad path is exit 2; no
+// .tmp file is left behind.
 void write_file_atomic(const std::string& path, const std::string& text);
 
 // Throws UsageError "<what> '<dir>': ..." unless dir is a directory or could be created (its

@@ -1172,3 +1172,26 @@ TEST_F(CliTest, TableReadsADatabaseInAReadOnlyFolder) {
 }
 
 }  // namespace
+
+namespace {
+
+// A table output that cannot be written (a full disk: the temporary file is /dev/full) is an
+// environment failure, exit 3, with no temporary file left; a bad -o folder stays exit 2.
+TEST_F(CliTest, TableOutputOnAFullDiskExitsThree) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const Result run = hyfal({"run", "--suite", "thermostat", "--trials", "2", "--threads", "1", "--db", "db.sqlite",
+                            "--witness-dir", "wit", "--quiet"});
+  ASSERT_EQ(run.code, 0) << run;
+  fs::create_symlink("/dev/full", work() / "table.md.tmp");
+  const Result r = hyfal({"table", "--db", "db.sqlite", "-o", "table.md"});
+  EXPECT_EQ(r.code, 3) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_TRUE(contains(r.err, "No space left on device")) << r;
+  EXPECT_FALSE(fs::is_symlink(work() / "table.md.tmp")) << "the temporary file is removed";
+  EXPECT_FALSE(fs::exists(work() / "table.md"));
+  const Result ok = hyfal({"table", "--db", "db.sqlite", "-o", "table.md"});
+  EXPECT_EQ(ok.code, 0) << ok;
+  EXPECT_TRUE(contains(read_text(work() / "table.md"), "| thermostat |"));
+}
+
+}  // namespace
