@@ -23,7 +23,9 @@
 // it), so the forest never holds more than max_nodes nodes. The coordinating thread publishes a
 // round with a release store that each task acquires, and each task ends with an acq_rel
 // increment that the coordinator acquires after the join: happens-before edges ThreadSanitizer
-// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it).
+// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it). Each task
+// body runs through the trial's TrialCpuClock, so cpu_s includes the helping threads' CPU; the
+// isolation keeps the trial's thread from running another trial's tasks while it waits.
 //
 // Coverage convention. Each tree has a CoverageGrid on the suite's coverage grid (n_g points,
 // spacing δ). Seed 003's eq. (3) c(T) = 1/(n_g δ) Σ_j min(d_j, δ) FALLS from 1 to 0 as the tree
@@ -82,6 +84,7 @@
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
 #include "core/tree.hpp"
+#include "core/trial_cpu.hpp"
 
 namespace hyfal {
 
@@ -269,7 +272,11 @@ class Rrft final : public Planner {
       epoch.store(static_cast<std::uint64_t>(rounds), std::memory_order_release);
       auto run = [&](std::size_t i) {
         (void)epoch.load(std::memory_order_acquire);
-        grow(info, budget, *active[i], quota[i]);
+        auto body = [&] { grow(info, budget, *active[i], quota[i]); };
+        if (ctx.cpu)
+          ctx.cpu->task(body);  // cpu_s counts the threads that helped (isolated: only this trial's tasks)
+        else
+          body();
         finished.fetch_add(1, std::memory_order_acq_rel);
       };
       if (active.size() == 1) {
