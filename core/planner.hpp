@@ -17,6 +17,8 @@
 
 namespace hyfal {
 
+class TrialCpuClock;  // core/trial_cpu.hpp
+
 struct PlannerLimits {
   double timeout_s = 60.0;
   std::int64_t max_nodes = 1'000'000;
@@ -28,6 +30,9 @@ struct PlannerContext {
   std::uint64_t seed = 0;
   PlannerLimits limits;
   std::stop_token stop;  // cooperative cancellation
+  // The trial's CPU clock: task bodies a planner runs on other threads go through cpu->task()
+  // (core/trial_cpu.hpp) so that cpu_s counts them; null outside the trial engine.
+  TrialCpuClock* cpu = nullptr;
 };
 
 struct PlannerCounters {

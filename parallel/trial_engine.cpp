@@ -21,18 +21,13 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "core/rng.hpp"
+#include "core/trial_cpu.hpp"
 
 namespace hyfal {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 // Writes `text` to `path` atomically (temporary file, then rename): a reader never sees half.
 // Any failure removes the temporary file and throws EnvironmentError with the cause.
@@ -98,12 +93,12 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
   rec.git_commit = options.git_commit;
   rec.started_at = iso8601_now();
   const auto wall0 = std::chrono::steady_clock::now();
-  const double cpu0 = thread_cpu_seconds();
+  TrialCpuClock cpu;  // this thread's CPU plus that of the planner's tasks on other threads
   try {
     auto planner = job.method->make(job.method_options);
     const SystemInfo& info = job.system->info();
     const PlannerContext ctx{*job.system, info.parameters, static_cast<std::uint64_t>(job.seed),
-                             job.limits, options.cancel};
+                             job.limits, options.cancel, &cpu};
     PlannerOutcome out = planner->solve(ctx);
     rec.nodes = out.counters.nodes;
     rec.propagations = out.counters.propagations;
@@ -138,7 +133,7 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
     rec.status = TrialStatus::error;
     rec.error = "unknown exception";
   }
-  rec.cpu_s = thread_cpu_seconds() - cpu0;
+  rec.cpu_s = cpu.seconds();
   rec.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   rec.finished_at = iso8601_now();
   return rec;

@@ -287,7 +287,15 @@ struct Interval {
 
 // f(a, i, c, L, R) of seed 002 Sect. 4.1.2 with m = max_i; the bands are written with literal
 // edges so that they partition [-1, 1] exactly in floating point.
-Interval driver_f(NavDriver d, double a, double m, double c, double L, double R) {
+//
+// a is a normalized velocity, in [-1, 1] by the mode's invariant (|a| <= a_max). The stored
+// state can lie a rounding error outside: one 2 s extension of SUni at full steering ends with
+// ω = ω_max exactly in exact arithmetic, but RK4 stores 1.0000000000000007 ω_max (the invariant
+// tolerates that, kBoundSlack). Read literally, such an a falls in no band and the driver would
+// be Random there, admitting inputs that Student and Highway forbid. So f is evaluated at a
+// clamped to the invariant's [-1, 1] (a NaN stays NaN and gets Random), and the interval is
+// clamped to [-m, m] so that rounding in its products never leaves the input box.
+Interval driver_f_bands(NavDriver d, double a, double m, double c, double L, double R) {
   const Interval any{-m, m};
   switch (d) {
     case NavDriver::random:
@@ -312,6 +320,12 @@ Interval driver_f(NavDriver d, double a, double m, double c, double L, double R)
     }
   }
   return any;
+}
+
+Interval driver_f(NavDriver d, double a, double m, double c, double L, double R) {
+  const double a_in = a > 1.0 ? 1.0 : a < -1.0 ? -1.0 : a;  // NaN passes through
+  const Interval f = driver_f_bands(d, a_in, m, c, L, R);
+  return {std::clamp(f.lo, -m, m), std::clamp(f.hi, -m, m)};
 }
 
 }  // namespace
