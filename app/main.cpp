@@ -62,18 +62,44 @@ std::pair<std::string, std::string> split_setting(const std::string& s) {
 }
 
 // --- list -------------------------------------------------------------------------------------
-int cmd_list() {
-  fmt::print("suites:\n");
+// One setting as `hyfal list` shows it: --set key=default, its valid values, what it means.
+void print_setting(const OptionSpec& o) {
+  const std::string range = o.range.empty() ? (o.default_value.is_boolean() ? "true|false" : "any") : o.range;
+  fmt::print("      {:<36} {:<18} {}\n", fmt::format("--set {}={}", o.key, o.default_value.dump()), range, o.help);
+}
+
+// Every setting of every suite and method as one Markdown table (the README's parameter table).
+std::string settings_markdown() {
+  std::string out = "| suite / method | setting | default | valid values | meaning |\n|---|---|---|---|---|\n";
+  const auto row = [&](const std::string& owner, const OptionSpec& o) {
+    const std::string range = o.range.empty() ? (o.default_value.is_boolean() ? "true, false" : "any") : o.range;
+    std::string help = o.help;
+    for (std::size_t i = 0; (i = help.find('|', i)) != std::string::npos; i += 2) help.replace(i, 1, "\\|");
+    std::string r = range;
+    for (std::size_t i = 0; (i = r.find('|', i)) != std::string::npos; i += 2) r.replace(i, 1, "\\|");
+    out += fmt::format("| {} | `{}` | `{}` | {} | {} |\n", owner, o.key, o.default_value.dump(), r, help);
+  };
+  for (const auto& s : all_suites())
+    for (const auto& p : s.parameters) row("suite `" + s.name + "`", p);
+  for (const auto& m : all_methods())
+    for (const auto& o : m.options) row("method `" + m.name + "`", o);
+  return out;
+}
+
+int cmd_list(bool markdown) {
+  if (markdown) {
+    std::cout << settings_markdown();
+    return 0;
+  }
+  fmt::print("suites:   (--set key=default  valid values  meaning)\n");
   for (const auto& s : all_suites()) {
     fmt::print("  {:<14} {}\n", s.name, s.description);
-    for (const auto& p : s.parameters)
-      fmt::print("      --set {}={:<10} {}\n", p.key, p.default_value.dump(), p.help);
+    for (const auto& p : s.parameters) print_setting(p);
   }
   fmt::print("methods:\n");
   for (const auto& m : all_methods()) {
     fmt::print("  {:<14} {}\n", m.name, m.description);
-    for (const auto& o : m.options)
-      fmt::print("      --set {}={:<10} {}\n", o.key, o.default_value.dump(), o.help);
+    for (const auto& o : m.options) print_setting(o);
   }
   fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|paper)\n");
   const auto tables = cli::all_tables();
@@ -95,6 +121,9 @@ struct RunArgs {
 };
 
 int cmd_run(const RunArgs& a) {
+  cli::check_output_path(a.db, "--db");
+  cli::check_output_path(a.witness_dir, "--witness-dir");
+  cli::check_experiment_name(a.experiment);
   const SuiteEntry* suite = find_suite(a.suite);
   if (!suite) throw UsageError(fmt::format("unknown suite '{}' (see 'hyfal list')", a.suite));
   const MethodEntry* method = find_method(a.method);
@@ -118,14 +147,7 @@ int cmd_run(const RunArgs& a) {
                a.trials, a.db);
 
   const EngineOptions eo = cli::make_engine_options(a.threads, a.witness_dir, !a.quiet && isatty(STDERR_FILENO));
-  std::size_t errors = 0;
-  run_trials(jobs, eo, [&](const TrialRecord& r) {
-    store.insert(r);
-    if (r.status == TrialStatus::error) {
-      ++errors;
-      fmt::print(stderr, "[hyfal] trial {} error: {}\n", r.key.trial_index, r.error);
-    }
-  });
+  const cli::JobsRun jobs_run = cli::run_jobs(jobs, store, eo);
 
   std::vector<TrialRecord> rows;
   for (auto& r : store.load(a.experiment))
@@ -136,17 +158,22 @@ int cmd_run(const RunArgs& a) {
     std::size_t validated = 0;
     for (const auto& r : rows) validated += r.validated;
     fmt::print("\n{} trials ({} run now), {} witnesses validated; threads {}; database {}; witnesses under {}\n",
-               rows.size(), jobs.size(), validated, a.threads > 0 ? a.threads : default_thread_count(), a.db,
+               rows.size(), jobs_run.run_now, validated, a.threads > 0 ? a.threads : default_thread_count(), a.db,
                a.witness_dir);
   }
-  return errors ? 1 : 0;
+  return jobs_run.errors ? 1 : 0;
 }
 
 // --- table ------------------------------------------------------------------------------------
 int cmd_table(const std::string& db, const std::string& experiment, const std::string& format,
               const std::string& output) {
   if (!fs::exists(db)) throw UsageError(fmt::format("no results database at '{}'", db));
-  TrialStore store = TrialStore::open(db);
+  if (!output.empty() && output != "-") {
+    if (fs::is_directory(output)) throw UsageError(fmt::format("-o '{}' is a directory", output));
+    const fs::path parent = fs::path(output).parent_path();
+    cli::check_directory_creatable(parent.empty() ? "." : parent.string(), "-o");
+  }
+  TrialStore store = TrialStore::open_read_only(db);
   const auto rows = store.load(experiment.empty() ? std::nullopt : std::optional<std::string>(experiment));
   const auto groups = summarize_trials(rows);
   write_output(output, format == "csv" ? to_csv(groups) : to_markdown(groups));
@@ -247,6 +274,18 @@ CLI::Validator non_negative_integer() {
       },
       "UINT");
 }
+CLI::Validator integer_in(long long lo, long long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& s) {
+        const bool digits = !s.empty() && s.size() <= 18 && s.find_first_not_of("0123456789") == std::string::npos;
+        if (digits) {
+          const long long v = std::stoll(s);
+          if (v >= lo && v <= hi) return std::string();
+        }
+        return fmt::format("'{}' is not an integer in [{}, {}]", s, lo, hi);
+      },
+      fmt::format("INT in [{}, {}]", lo, hi));
+}
 CLI::Validator positive_integer() {
   return CLI::Validator(
       [](std::string& s) {
@@ -266,16 +305,21 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every command");
 
-  auto* list = app.add_subcommand("list", "list suites (with their --set parameters), methods and tables");
+  bool list_markdown = false;
+  auto* list = app.add_subcommand("list", "list suites and methods with every --set setting (default, valid values), and tables");
+  list->add_flag("--markdown", list_markdown, "print every setting as one Markdown table (as in the README)");
 
   RunArgs ra;
   auto* run = app.add_subcommand("run", "run trials of one method on one suite instance; resumes a stored run");
   run->add_option("--suite", ra.suite, "suite name (see 'hyfal list')")->required();
   run->add_option("--method", ra.method, "method name")->capture_default_str();
   run->add_option("--set", ra.sets, "instance parameter or method option, key=value (repeatable)");
-  run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1)")->check(positive_integer())->capture_default_str();
-  run->add_option("--threads", ra.threads, "worker threads, 0 = all cores")->check(non_negative_integer())->capture_default_str();
-  run->add_option("--timeout", ra.timeout, "per-trial wall-clock limit, seconds")->check(positive_number())->capture_default_str();
+  run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1), at most 1000000")
+      ->check(integer_in(1, cli::kMaxTrials))->capture_default_str();
+  run->add_option("--threads", ra.threads, "worker threads, 0 = all cores, at most 1024")
+      ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
+  run->add_option("--timeout", ra.timeout, "per-trial wall-clock limit, seconds (any positive number; very large = no limit)")
+      ->check(positive_number())->capture_default_str();
   run->add_option("--max-nodes", ra.max_nodes, "per-trial node cap")->check(positive_integer())->capture_default_str();
   run->add_option("--seed", ra.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
       ->check(non_negative_integer())->capture_default_str();
@@ -299,7 +343,8 @@ int main(int argc, char** argv) {
   reproduce->add_option("--profile", pa.profile, "smoke (seconds), quick (minutes) or paper (the paper's set-up)")
       ->required()
       ->check(CLI::IsMember({"smoke", "quick", "paper"}));
-  reproduce->add_option("--threads", pa.threads, "worker threads, 0 = all cores")->check(non_negative_integer())->capture_default_str();
+  reproduce->add_option("--threads", pa.threads, "worker threads, 0 = all cores, at most 1024")
+      ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
   reproduce->add_option("--seed", pa.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
       ->check(non_negative_integer())
       ->capture_default_str();
@@ -339,7 +384,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (*list) return cmd_list();
+    if (*list) return cmd_list(list_markdown);
     if (*run) return cmd_run(ra);
     if (*table) return cmd_table(tdb, texp, tformat, tout);
     if (*validate) return cmd_validate(vfile);
@@ -353,7 +398,10 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const StoreError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return 2;
+    return e.kind() == StoreErrorKind::environment ? 3 : 2;  // 3: the machine failed, not the input
+  } catch (const EnvironmentError& e) {
+    fmt::print(stderr, "hyfal: error: {} (the run stopped; rerun the same command to resume)\n", e.what());
+    return 3;
   } catch (const std::exception& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 1;

@@ -3,13 +3,17 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <thread>
 #include <utility>
 
 #include <fmt/format.h>
@@ -41,23 +45,26 @@ std::string git_commit() {
 }
 
 void write_file_atomic(const std::string& path, const std::string& text) {
+  // Callers check the folder up front (check_directory_creatable, bad input); what fails here is
+  // the environment: a full disk, an I/O error, a permission lost since the check.
   const fs::path p(path), tmp = path + ".tmp";
   try {
     if (p.has_parent_path()) fs::create_directories(p.parent_path());
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
       if (!out || !(out << text) || !out.flush()) {
+        const int cause = errno;
         out.close();
         std::error_code ignored;
         fs::remove(tmp, ignored);
-        throw UsageError(fmt::format("cannot write '{}'", path));
+        throw EnvironmentError(fmt::format("cannot write '{}': {}", path, cause ? std::strerror(cause) : "write failed"));
       }
     }
     fs::rename(tmp, p);
   } catch (const fs::filesystem_error& e) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw UsageError(fmt::format("cannot write '{}': {}", path, e.code().message()));
+    throw EnvironmentError(fmt::format("cannot write '{}': {}", path, e.code().message()));
   }
 }
 
@@ -79,7 +86,47 @@ void check_directory_creatable(const std::string& dir, const std::string& what) 
   }
 }
 
+void check_output_path(const std::string& path, const std::string& what) {
+  if (path.empty()) throw UsageError(fmt::format("{} '': an empty path is not allowed", what));
+  if (path.find('\0') != std::string::npos) throw UsageError(fmt::format("{}: the path holds a NUL byte", what));
+}
+
+void check_experiment_name(const std::string& name) {
+  const auto bad = [&](const std::string& why) {
+    return UsageError(fmt::format("--experiment '{}': {} (allowed: letters, digits, '.', '_', '-', '+', and '/' "
+                                  "between non-empty parts other than '.' and '..'; at most {} characters)",
+                                  name, why, kMaxExperimentName));
+  };
+  if (name.empty()) throw bad("empty");
+  if (name.size() > kMaxExperimentName) throw bad("too long");
+  for (const char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' || c == '+' || c == '/'))
+      throw bad(fmt::format("character '{}' is not allowed", std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c)
+                                                                                                      : fmt::format("\\x{:02x}", static_cast<unsigned char>(c))));
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t slash = name.find('/', start);
+    const std::string part = name.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+    if (part.empty()) throw bad("empty part (leading, trailing or doubled '/')");
+    if (part == "." || part == "..") throw bad(fmt::format("part '{}' would leave the witness folder", part));
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+}
+
 // --- shared by run and reproduce --------------------------------------------------------------
+
+void overlay_settings(Settings& base, const Settings& layer) {
+  for (const auto& kv : layer) {
+    bool replaced = false;
+    for (auto& b : base)
+      if (b.first == kv.first) {
+        b.second = kv.second;
+        replaced = true;
+      }
+    if (!replaced) base.push_back(kv);
+  }
+}
 
 bool TrialGroup::contains(const TrialRecord& r) const {
   return r.key.experiment == base.experiment && r.key.suite == base.suite && r.key.instance == base.instance &&
@@ -108,6 +155,14 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
     g.system = suite->make(g.instance);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
+  }
+  // The method's own checks (relations between options, what it needs of the system) run here,
+  // once, so that a bad combination is reported before the database is opened, not per trial.
+  try {
+    if (method->check_system) method->check_system(*g.system, g.options);
+    (void)method->make(g.options);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("method '{}' on suite '{}': {}", method->name, suite->name, e.what()));
   }
   g.config = {{"master_seed", spec.seed}, {"max_nodes", spec.max_nodes}, {"timeout_s", spec.timeout_s},
               {"options", g.options}};
@@ -140,6 +195,56 @@ EngineOptions make_engine_options(int threads, const std::string& witness_dir, b
   eo.host = host_name();
   eo.git_commit = git_commit();
   return eo;
+}
+
+JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const EngineOptions& engine) {
+  JobsRun result;
+  if (jobs.empty()) return result;
+  const ClaimOwner& owner = ClaimOwner::this_process();
+  const ClaimHeartbeat heartbeat(store.path(), owner);  // releases this process's claims when it ends
+  std::vector<TrialKey> keys;
+  keys.reserve(jobs.size());
+  for (const TrialJob& job : jobs) keys.push_back(job.key);
+
+  const auto sink = [&](const TrialRecord& r) {
+    try {
+      store.insert(r);
+    } catch (const StoreError& e) {
+      // Stored meanwhile by another process that took this one's claim for stale (no heartbeat
+      // for kClaimStaleAfter): the same trial with the same seed, so the stored row stands.
+      if (e.kind() != StoreErrorKind::bad_input || !store.is_stored(r.key)) throw;
+      return;
+    }
+    ++result.run_now;
+    if (r.status == TrialStatus::error)
+      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
+  };
+  const auto claim = [&](const TrialJob& job) { return store.claim(job.key, owner); };
+
+  std::vector<TrialJob> pending = jobs;
+  bool waited = false;
+  for (;;) {
+    if (!pending.empty()) run_trials(pending, engine, sink, claim);
+    pending.clear();
+    const std::vector<TrialProgress> states = store.progress(keys, owner);
+    std::size_t running_elsewhere = 0;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+      if (states[i] == TrialProgress::needs_runner) pending.push_back(jobs[i]);
+      running_elsewhere += states[i] == TrialProgress::claimed_by_other;
+    }
+    if (!pending.empty()) continue;  // their owner is gone: run them here
+    if (running_elsewhere == 0) {
+      result.errors = static_cast<std::size_t>(std::count(states.begin(), states.end(), TrialProgress::stored_error));
+      break;
+    }
+    if (engine.progress) {
+      fmt::print(stderr, "\r[hyfal] waiting for {} trials that other processes are running   ", running_elsewhere);
+      waited = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  if (waited) fmt::print(stderr, "\n");
+  return result;
 }
 
 std::vector<TableRef> all_tables() {
@@ -188,16 +293,11 @@ TableTrials run_table_trials(const std::vector<const TrialGroup*>& groups, Trial
   }
   TableTrials t{make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0)};
   t.total = seen.size() * static_cast<std::size_t>(trials_per_group);
-  t.run_now = jobs.size();
   if (stored_count > 0)
     fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, t.total, a.db);
-  run_trials(jobs, t.engine, [&](const TrialRecord& r) {
-    store.insert(r);
-    if (r.status == TrialStatus::error) {
-      ++t.errors;
-      fmt::print(stderr, "[hyfal] {} trial {} error: {}\n", r.key.method, r.key.trial_index, r.error);
-    }
-  });
+  const JobsRun jobs_run = run_jobs(jobs, store, t.engine);
+  t.run_now = jobs_run.run_now;
+  t.errors = jobs_run.errors;
   return t;
 }
 
@@ -246,12 +346,11 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
           spec.experiment = experiment;
           spec.suite = suite;
           spec.method = method;
-          spec.settings = profile.settings;  // later settings win in resolve_options
-          if (!sw.blocks.empty())
-            spec.settings.insert(spec.settings.end(), sw.blocks[b].settings.begin(), sw.blocks[b].settings.end());
-          spec.settings.insert(spec.settings.end(), sw.columns[c].settings.begin(), sw.columns[c].settings.end());
-          if (!sw.instance_key.empty()) spec.settings.emplace_back(sw.instance_key, std::to_string(k));
-          spec.settings.insert(spec.settings.end(), row.settings.begin(), row.settings.end());
+          spec.settings = profile.settings;  // then block, column, instance and row: later layers win
+          if (!sw.blocks.empty()) overlay_settings(spec.settings, sw.blocks[b].settings);
+          overlay_settings(spec.settings, sw.columns[c].settings);
+          if (!sw.instance_key.empty()) overlay_settings(spec.settings, {{sw.instance_key, std::to_string(k)}});
+          overlay_settings(spec.settings, row.settings);
           spec.trials = profile.trials;
           spec.timeout_s = profile.timeout_s;
           spec.max_nodes = profile.max_nodes;
@@ -319,6 +418,10 @@ int cmd_reproduce(const ReproduceArgs& a) {
                                  table->id, a.profile));
   if (table->rows.empty()) throw UsageError(fmt::format("table '{}' has no rows", table->id));
   const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
+  check_output_path(a.db, "--db");
+  check_output_path(a.witness_dir, "--witness-dir");
+  check_output_path(a.out_dir, "--out-dir");
+  check_experiment_name(experiment);
   check_directory_creatable(a.out_dir, "--out-dir");
   check_directory_creatable(a.witness_dir, "--witness-dir");
   if (table->sweep) return reproduce_sweep(a, suite, *table, profile, experiment);
@@ -333,8 +436,8 @@ int cmd_reproduce(const ReproduceArgs& a) {
     spec.experiment = experiment;
     spec.suite = suite;
     spec.method = method;
-    spec.settings = profile.settings;  // then the row's own: later wins in resolve_options
-    spec.settings.insert(spec.settings.end(), row.settings.begin(), row.settings.end());
+    spec.settings = profile.settings;  // then the row's own, which wins
+    overlay_settings(spec.settings, row.settings);
     spec.trials = profile.trials;
     spec.timeout_s = profile.timeout_s;
     spec.max_nodes = profile.max_nodes;

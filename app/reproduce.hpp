@@ -24,12 +24,31 @@ struct UsageError : std::runtime_error {
 std::string git_commit();
 
 // Writes text to path through path.tmp and a rename, creating parent directories. Throws
-// UsageError (one line) if it cannot; no .tmp file is left behind.
+// EnvironmentError (one line: disk full, I/O error, permission lost; exit 3) if it cannot — a
+// caller checks the folder first (check_directory_creatable) so that a bad path is exit 2; no
+// .tmp file is left behind.
 void write_file_atomic(const std::string& path, const std::string& text);
 
 // Throws UsageError "<what> '<dir>': ..." unless dir is a directory or could be created (its
 // deepest existing ancestor is a writable directory). Creates nothing.
 void check_directory_creatable(const std::string& dir, const std::string& what);
+
+// Applies `layer` on top of `base`: a key already in base takes the layer's value (paper tables
+// stack profile, block, column and row settings this way); a user's own --set list instead must
+// name each key once (resolve_options refuses a repeated key).
+void overlay_settings(Settings& base, const Settings& layer);
+
+// Limits of the run options, documented in `hyfal run --help` and the README.
+constexpr long long kMaxTrials = 1'000'000;   // trial indices per group
+constexpr long long kMaxThreads = 1024;       // oneTBB arena size (0 = all cores)
+constexpr std::size_t kMaxExperimentName = 200;
+
+// Throws UsageError unless path is a usable path for an output (non-empty, no NUL).
+void check_output_path(const std::string& path, const std::string& what);
+
+// Experiment names become folders under --witness-dir: letters, digits, '.', '_', '-', '+', and
+// '/' between non-empty parts that are not '.' or '..'. Throws UsageError naming the problem.
+void check_experiment_name(const std::string& name);
 
 // One group of trials: a suite instance, a method with its options, limits and a master seed.
 struct TrialGroupSpec {
@@ -64,6 +83,22 @@ std::vector<TrialJob> prepare_jobs(const TrialGroup& group, const std::set<std::
 
 // Engine options both commands use (host, git commit, progress on a terminal).
 EngineOptions make_engine_options(int threads, const std::string& witness_dir, bool progress);
+
+// What run_jobs did.
+struct JobsRun {
+  std::size_t run_now = 0;  // trials this process ran and stored
+  std::size_t errors = 0;   // jobs stored with status error at the end (by this or another process)
+};
+
+// Runs `jobs` into `store` so that several processes started on the same jobs and database
+// cooperate (both `run` and `reproduce` run their trials through it). Each job is claimed in
+// the database right before it starts; one that another live process has claimed, or stored,
+// is skipped. Afterwards, jobs that are neither stored nor claimed by a live process (their
+// owner died: kill -9, a lost host) are run here, and jobs that other processes still run are
+// waited for (polling every 0.2 s, with a note on a terminal), until every job is stored. Prints
+// one line per trial that ended in error here. Throws what the engine throws (EnvironmentError,
+// StoreError), after stopping the trials in flight and releasing this process's claims.
+JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const EngineOptions& engine);
 
 struct ReproduceArgs {
   std::string id, profile;

@@ -17,6 +17,8 @@
 
 namespace hyfal {
 
+class TrialCpuClock;  // core/trial_cpu.hpp
+
 struct PlannerLimits {
   double timeout_s = 60.0;
   std::int64_t max_nodes = 1'000'000;
@@ -28,6 +30,9 @@ struct PlannerContext {
   std::uint64_t seed = 0;
   PlannerLimits limits;
   std::stop_token stop;  // cooperative cancellation
+  // The trial's CPU clock: task bodies a planner runs on other threads go through cpu->task()
+  // (core/trial_cpu.hpp) so that cpu_s counts them; null outside the trial engine.
+  TrialCpuClock* cpu = nullptr;
 };
 
 struct PlannerCounters {
@@ -87,11 +92,18 @@ class SearchBudget {
   std::chrono::steady_clock::time_point deadline_;
 };
 
-// A method option: key, default (its JSON type is the option's type) and help text.
+// A declared setting (a method option or a suite's instance parameter): key, default (its JSON
+// type is the setting's type), help text and the valid values, declared once beside the default
+// (as OMPL's declareParam does with a range string):
+//   "[1, 1000]", "(0, 1]", "[0, inf)"  an interval (integers and numbers; inf allowed as a bound)
+//   "metric|t2go"                      the allowed strings
+//   ""                                 any value of the type (booleans only; a test checks)
+// core/options.hpp checks values against it; `hyfal list` prints it.
 struct OptionSpec {
   std::string key;
   Json default_value;
   std::string help;
+  std::string range = {};
 };
 
 struct MethodEntry {
@@ -99,6 +111,10 @@ struct MethodEntry {
   std::string description;
   std::vector<OptionSpec> options;
   std::function<std::unique_ptr<Planner>(const Json& options)> make;
+  // What the method needs of a system beyond the common interface (e.g. HyDICE a region
+  // decomposition): throws std::invalid_argument naming what is missing. Empty: any system.
+  // Checked when a run is resolved, before anything is written.
+  std::function<void(const System& system, const Json& options)> check_system = {};
 };
 
 // The method registry (core/planners/registry.cpp): one line per method.

@@ -1,8 +1,13 @@
 #include "parallel/trial_engine.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <exception>
+#include <optional>
 #include <chrono>
 #include <ctime>
 #include <filesystem>
@@ -16,6 +21,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "core/rng.hpp"
+#include "core/trial_cpu.hpp"
 
 namespace hyfal {
 
@@ -23,23 +29,33 @@ namespace fs = std::filesystem;
 
 namespace {
 
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 // Writes `text` to `path` atomically (temporary file, then rename): a reader never sees half.
+// Any failure removes the temporary file and throws EnvironmentError with the cause.
 void write_file_atomically(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
   const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
-    out << text;
-    if (!out.flush()) throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
+  const auto fail = [&](const std::string& what, int error) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw EnvironmentError(fmt::format("cannot write witness '{}': {}: {}", path.string(), what, std::strerror(error)));
+  };
+  std::error_code ec;
+  fs::create_directories(path.parent_path(), ec);
+  if (ec) fail(fmt::format("cannot create '{}'", path.parent_path().string()), ec.value());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail("cannot create it", errno);
+  for (std::size_t written = 0; written < text.size();) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : EIO;
+      ::close(fd);
+      fail("write failed", error);
+    }
+    written += static_cast<std::size_t>(n);
   }
-  fs::rename(tmp, path);
+  if (::close(fd) != 0) fail("write failed", errno);  // e.g. ENOSPC reported at close (NFS)
+  fs::rename(tmp, path, ec);
+  if (ec) fail("cannot rename the temporary file", ec.value());
 }
 
 }  // namespace
@@ -77,12 +93,12 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
   rec.git_commit = options.git_commit;
   rec.started_at = iso8601_now();
   const auto wall0 = std::chrono::steady_clock::now();
-  const double cpu0 = thread_cpu_seconds();
+  TrialCpuClock cpu;  // this thread's CPU plus that of the planner's tasks on other threads
   try {
     auto planner = job.method->make(job.method_options);
     const SystemInfo& info = job.system->info();
     const PlannerContext ctx{*job.system, info.parameters, static_cast<std::uint64_t>(job.seed),
-                             job.limits, options.cancel};
+                             job.limits, options.cancel, &cpu};
     PlannerOutcome out = planner->solve(ctx);
     rec.nodes = out.counters.nodes;
     rec.propagations = out.counters.propagations;
@@ -104,6 +120,8 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
         rec.error = "witness failed validation: " + report.reason;
       }
     }
+  } catch (const EnvironmentError&) {
+    throw;  // not the trial's failure: the run stops (see run_trials)
   } catch (const std::exception& e) {
     rec.status = TrialStatus::error;
     rec.validated = false;  // no witness on disk vouches for it
@@ -115,16 +133,31 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
     rec.status = TrialStatus::error;
     rec.error = "unknown exception";
   }
-  rec.cpu_s = thread_cpu_seconds() - cpu0;
+  rec.cpu_s = cpu.seconds();
   rec.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   rec.finished_at = iso8601_now();
   return rec;
 }
 
-void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink) {
+void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
+                const TrialClaim& claim) {
   const int threads = options.threads > 0 ? options.threads : default_thread_count();
-  std::mutex sink_mutex;
-  std::size_t done = 0, falsified = 0;
+  // The engine's own stop source: a failure stops the trials in flight through it, and so does
+  // the caller's cancel token (forwarded).
+  std::stop_source stop;
+  std::optional<std::stop_callback<std::function<void()>>> forward_cancel;
+  if (options.cancel.stop_possible())
+    forward_cancel.emplace(options.cancel, std::function<void()>([&stop] { stop.request_stop(); }));
+  EngineOptions trial_options = options;
+  trial_options.cancel = stop.get_token();
+
+  std::mutex sink_mutex;  // serializes the sink, the claims and the fields below
+  std::exception_ptr failure;
+  std::size_t done = 0, skipped = 0, falsified = 0;
+  const auto fail = [&](std::exception_ptr error) {  // under sink_mutex
+    if (!failure) failure = std::move(error);
+    stop.request_stop();
+  };
   const auto t0 = std::chrono::steady_clock::now();
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -132,18 +165,44 @@ void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options,
         tbb::blocked_range<std::size_t>(0, jobs.size(), 1),
         [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            TrialRecord rec = run_trial(jobs[i], options);
-            rec.threads = threads;
+            {
+              std::lock_guard lock(sink_mutex);
+              if (failure) return;  // no new trial after a failure
+              try {
+                if (claim && !claim(jobs[i])) {
+                  ++skipped;
+                  continue;
+                }
+              } catch (...) {
+                fail(std::current_exception());
+                return;
+              }
+            }
+            std::optional<TrialRecord> rec;
+            std::exception_ptr error;
+            try {
+              rec = run_trial(jobs[i], trial_options);
+            } catch (...) {
+              error = std::current_exception();
+            }
             std::lock_guard lock(sink_mutex);
-            sink(rec);
+            if (error) fail(std::move(error));
+            if (failure) return;  // stopped by a failure: its result is not kept, it reruns on resume
+            rec->threads = threads;
+            try {
+              sink(*rec);
+            } catch (...) {
+              fail(std::current_exception());
+              return;
+            }
             ++done;
-            falsified += rec.status == TrialStatus::falsified;
+            falsified += rec->status == TrialStatus::falsified;
             if (options.progress) {
+              const std::size_t total = jobs.size() - skipped;
               const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-              const double eta = el / static_cast<double>(done) * static_cast<double>(jobs.size() - done);
+              const double eta = el / static_cast<double>(done) * static_cast<double>(total - done);
               fmt::print(stderr, "\r[hyfal] {}/{} trials, {} falsified, {:.1f} s elapsed, ETA {:.1f} s   ",
-                         done, jobs.size(), falsified, el, eta);
-              if (done == jobs.size()) fmt::print(stderr, "\n");
+                         done, total, falsified, el, eta);
             }
           }
         },
@@ -152,6 +211,8 @@ void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options,
   // Acquire the lock the last sink call released: an explicit happens-before edge from every
   // sink call to the caller, visible to ThreadSanitizer (TBB's own joins are not instrumented).
   std::lock_guard lock(sink_mutex);
+  if (options.progress && done > 0) fmt::print(stderr, "\n");
+  if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace hyfal

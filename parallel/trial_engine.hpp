@@ -4,6 +4,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <stop_token>
 #include <string>
 #include <vector>
@@ -30,13 +31,30 @@ struct EngineOptions {
   std::stop_token cancel;
 };
 
-using TrialSink = std::function<void(const TrialRecord&)>;
+// A failure of the machine, not of the input or of a trial: a witness that cannot be written
+// (disk full, permission lost, its folder gone). The trial's result cannot be kept, so the run
+// stops; the command exits with code 3, and a rerun resumes.
+class EnvironmentError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
-// Runs one trial on the calling thread. Never throws: failures become status error.
+using TrialSink = std::function<void(const TrialRecord&)>;
+// Called right before a job starts (serialized with the sink and with other claims): false
+// skips the job (e.g. another process runs it).
+using TrialClaim = std::function<bool(const TrialJob&)>;
+
+// Runs one trial on the calling thread. Failures of the trial become status error; throws
+// EnvironmentError only when the witness cannot be written (no temporary file is left).
 TrialRecord run_trial(const TrialJob& job, const EngineOptions& options);
 
-// Runs all jobs on `options.threads` threads; `sink` is called once per trial, serialized.
-void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink);
+// Runs all jobs on `options.threads` threads; `claim` (if set) is asked before each job starts,
+// `sink` is called once per trial run, serialized. If a trial throws (EnvironmentError), or the
+// sink or the claim throws, no further job starts, the trials in flight are asked to stop (the
+// engine's own stop source, also stopped by options.cancel), their results are dropped (they
+// rerun on resume), and the first exception is rethrown once every thread has returned.
+void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
+                const TrialClaim& claim = {});
 
 // Where the witness of a trial goes: DIR/EXPERIMENT/SUITE/METHOD/<hash of instance+config>-t<index>.json
 std::string witness_path(const std::string& dir, const TrialKey& key);

@@ -3,7 +3,22 @@
 #include <fmt/format.h>
 #include <sqlite3.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
 #include <string_view>
 #include <system_error>
 
@@ -54,15 +69,64 @@ CREATE TABLE IF NOT EXISTS series (
   y        REAL    NOT NULL
 );
 CREATE INDEX IF NOT EXISTS series_by_trial ON series (trial_id, name);
+CREATE TABLE IF NOT EXISTS claims (
+  experiment    TEXT    NOT NULL,
+  suite         TEXT    NOT NULL,
+  instance      TEXT    NOT NULL,
+  method        TEXT    NOT NULL,
+  config        TEXT    NOT NULL,
+  trial_index   INTEGER NOT NULL,
+  host          TEXT    NOT NULL,
+  pid           INTEGER NOT NULL,
+  process_start INTEGER NOT NULL,
+  token         TEXT    NOT NULL,
+  heartbeat     REAL    NOT NULL,  -- Unix time, seconds
+  PRIMARY KEY (experiment, suite, instance, method, config, trial_index)
+);
+CREATE INDEX IF NOT EXISTS claims_by_token ON claims (token);
 )sql";
+
+// The columns each table of a hyfal database has (the check before anything is written).
+const std::map<std::string, std::set<std::string>>& expected_columns() {
+  static const std::map<std::string, std::set<std::string>> columns{
+      {"meta", {"key", "value"}},
+      {"trials",
+       {"id", "experiment", "suite", "instance", "method", "config", "trial_index", "seed", "status",
+        "validated", "wall_s", "cpu_s", "nodes", "propagations", "integration_steps", "witness", "error",
+        "threads", "host", "git_commit", "started_at", "finished_at", "metrics"}},
+      {"series", {"trial_id", "name", "x", "y"}},
+      {"claims",
+       {"experiment", "suite", "instance", "method", "config", "trial_index", "host", "pid",
+        "process_start", "token", "heartbeat"}},
+  };
+  return columns;
+}
 
 constexpr const char* kTrialColumns =
     "experiment, suite, instance, method, config, trial_index, seed, status, validated, "
     "wall_s, cpu_s, nodes, propagations, integration_steps, witness, error, threads, host, "
     "git_commit, started_at, finished_at, metrics";
 
+// What a SQLite result code says about its cause. The file's content is the user's (bad input)
+// when SQLite finds it is not a database, or a constraint refuses a row; everything else that
+// fails on a database that passed the checks is the machine's: SQLITE_FULL, SQLITE_IOERR_*,
+// SQLITE_BUSY/LOCKED after the busy timeout, SQLITE_READONLY_*, SQLITE_CANTOPEN, SQLITE_NOMEM...
+StoreErrorKind kind_of(int rc) {
+  switch (rc & 0xff) {
+    case SQLITE_NOTADB:
+    case SQLITE_CORRUPT:
+    case SQLITE_CONSTRAINT:
+    case SQLITE_MISMATCH:
+    case SQLITE_FORMAT:
+      return StoreErrorKind::bad_input;
+    default:
+      return StoreErrorKind::environment;
+  }
+}
+
 [[noreturn]] void throw_sqlite_error(sqlite3* connection, std::string_view what) {
-  throw StoreError(fmt::format("{}: {}", what, sqlite3_errmsg(connection)));
+  throw StoreError(kind_of(sqlite3_extended_errcode(connection)),
+                   fmt::format("{}: {}", what, sqlite3_errmsg(connection)));
 }
 
 void execute(sqlite3* connection, const char* sql, std::string_view what) {
@@ -143,26 +207,240 @@ std::string describe(const TrialKey& key) {
 }
 
 // Ensures the directory the database goes into exists; SQLite creates files, not directories.
+// A parent that cannot be made (a regular file in the way, a forbidden place) is a bad path;
+// a full or failing disk is the machine's.
 void create_parent_directories(const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   if (parent.empty()) return;
   std::error_code error;
   std::filesystem::create_directories(parent, error);
-  if (error)
-    throw StoreError(fmt::format("cannot create directory '{}': {}", parent.string(),
-                                 error.message()));
+  if (error) {
+    const int code = error.value();
+    const bool machine = code == ENOSPC || code == EIO || code == EDQUOT || code == ENOMEM;
+    throw StoreError(machine ? StoreErrorKind::environment : StoreErrorKind::bad_input,
+                     fmt::format("cannot create directory '{}' for results database '{}': {}",
+                                 parent.string(), path, error.message()));
+  }
 }
 
-// Makes the connection ready for use; a file that is not a SQLite database fails here, on the
-// first statement that reads it, not in sqlite3_open_v2. SQLite's own message ("file is not a
-// database") is the clearest cause to report, so it is reported alone.
-void configure(sqlite3* connection) {
-  const auto run = [connection](const char* sql) {
+[[noreturn]] void throw_not_hyfal(const std::string& path, std::string_view why) {
+  throw StoreError(StoreErrorKind::bad_input,
+                   fmt::format("'{}' is not a hyfal results database: {}", path, why));
+}
+
+// A SQLite URI for path (file: scheme, percent-encoded) with the given query.
+std::string sqlite_uri(const std::string& path, std::string_view query) {
+  std::error_code ignored;
+  const std::string absolute = std::filesystem::absolute(path, ignored).string();
+  std::string uri = "file:";
+  for (const unsigned char c : absolute.empty() ? path : absolute) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~')
+      uri += static_cast<char>(c);
+    else
+      uri += fmt::format("%{:02X}", c);
+  }
+  uri += '?';
+  uri += query;
+  return uri;
+}
+
+// Opens a connection; on failure throws StoreError with the cause (classified by SQLite's code).
+using RawConnection = std::unique_ptr<sqlite3, decltype(&sqlite3_close_v2)>;
+RawConnection open_connection(const std::string& path, const std::string& name, int flags) {
+  sqlite3* raw = nullptr;
+  const int rc = sqlite3_open_v2(name.c_str(), &raw, flags, nullptr);
+  RawConnection connection(raw, &sqlite3_close_v2);  // a handle is allocated even on failure
+  if (rc != SQLITE_OK)
+    throw StoreError(kind_of(rc), fmt::format("cannot open results database '{}': {}", path,
+                                              raw == nullptr ? sqlite3_errstr(rc) : sqlite3_errmsg(raw)));
+  sqlite3_extended_result_codes(raw, 1);
+  if (sqlite3_busy_timeout(raw, kBusyTimeoutMs) != SQLITE_OK)
+    throw_sqlite_error(raw, fmt::format("cannot open results database '{}'", path));
+  return connection;
+}
+
+// Runs sql, handing each row's first column (as text) to on_row. Throws StoreError naming path.
+template <class OnRow>
+void for_each_row(sqlite3* connection, const std::string& path, const std::string& sql, OnRow on_row) {
+  sqlite3_stmt* raw = nullptr;
+  if (sqlite3_prepare_v2(connection, sql.c_str(), -1, &raw, nullptr) != SQLITE_OK)
+    throw_sqlite_error(connection, fmt::format("cannot read results database '{}'", path));
+  std::unique_ptr<sqlite3_stmt, decltype(&sqlite3_finalize)> statement(raw, &sqlite3_finalize);
+  for (;;) {
+    const int rc = sqlite3_step(raw);
+    if (rc == SQLITE_DONE) return;
+    if (rc != SQLITE_ROW) throw_sqlite_error(connection, fmt::format("cannot read results database '{}'", path));
+    const auto* chars = sqlite3_column_text(raw, 0);
+    on_row(chars == nullptr ? std::string() : std::string(reinterpret_cast<const char*>(chars)));
+  }
+}
+
+// Whether the database holds hyfal's schema, read without writing anything. Returns false for a
+// SQLite database without any table (a new database another process is creating now looks like
+// this until its schema commits), true for a hyfal database; throws StoreError (bad_input)
+// naming what is wrong for anything else.
+bool check_hyfal_schema(sqlite3* connection, const std::string& path) {
+  std::set<std::string> tables;
+  try {
+    for_each_row(connection, path, "SELECT name FROM sqlite_master WHERE type = 'table'",
+                 [&](std::string name) { tables.insert(std::move(name)); });
+  } catch (const StoreError& error) {
+    const int rc = sqlite3_extended_errcode(connection);
+    if ((rc & 0xff) == SQLITE_NOTADB || (rc & 0xff) == SQLITE_CORRUPT)
+      throw_not_hyfal(path, sqlite3_errmsg(connection));
+    throw;
+  }
+  if (tables.empty()) return false;
+  if (!tables.count("meta")) throw_not_hyfal(path, "it has no table 'meta'");
+  std::vector<std::string> versions;
+  try {
+    for_each_row(connection, path, "SELECT value FROM meta WHERE key = 'schema_version'",
+                 [&](std::string value) { versions.push_back(std::move(value)); });
+  } catch (const StoreError& error) {
+    if (error.kind() == StoreErrorKind::environment &&
+        (sqlite3_extended_errcode(connection) & 0xff) != SQLITE_ERROR)
+      throw;
+    throw_not_hyfal(path, "its table 'meta' is not hyfal's (no key and value columns)");
+  }
+  if (versions.empty()) throw_not_hyfal(path, "its table 'meta' holds no schema_version");
+  if (versions.front() != std::to_string(kSchemaVersion))
+    throw StoreError(StoreErrorKind::bad_input,
+                     fmt::format("results database '{}': schema version {} is not supported by this build "
+                                 "(reads {})",
+                                 path, versions.front(), kSchemaVersion));
+  for (const auto& [table, columns] : expected_columns()) {
+    if (!tables.count(table)) {
+      if (table == "claims") continue;  // added by writers; older databases lack it
+      throw_not_hyfal(path, fmt::format("it has no table '{}'", table));
+    }
+    std::set<std::string> found;
+    for_each_row(connection, path, fmt::format("SELECT name FROM pragma_table_info('{}')", table),
+                 [&](std::string name) { found.insert(std::move(name)); });
+    for (const std::string& column : columns)
+      if (!found.count(column)) throw_not_hyfal(path, fmt::format("its table '{}' has no column '{}'", table, column));
+    for (const std::string& column : found)
+      if (!columns.count(column))
+        throw_not_hyfal(path, fmt::format("its table '{}' has a column '{}' that hyfal's has not", table, column));
+  }
+  return true;
+}
+
+// Whether the file at path starts like a SQLite database (its 16-byte magic header). Reading it
+// ourselves first means a file that is not one is never handed to SQLite at all.
+bool has_sqlite_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[16] = {};
+  in.read(header, sizeof header);
+  return in.gcount() == sizeof header && std::memcmp(header, "SQLite format 3", 16) == 0;
+}
+
+bool path_exists(const std::string& path) {
+  std::error_code ignored;
+  return std::filesystem::exists(path, ignored);
+}
+
+// A regular, non-empty file, checked before SQLite sees it; false for a missing or empty file.
+// Throws StoreError (bad_input) for a directory or something else that is no file.
+bool existing_database_file(const std::string& path) {
+  if (path.empty()) throw StoreError(StoreErrorKind::bad_input, "the results database path is empty");
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) return false;
+  if (std::filesystem::is_directory(status))
+    throw StoreError(StoreErrorKind::bad_input,
+                     fmt::format("'{}' is a directory, not a results database", path));
+  if (!std::filesystem::is_regular_file(status))
+    throw StoreError(StoreErrorKind::bad_input, fmt::format("'{}' is not a regular file", path));
+  const auto size = std::filesystem::file_size(path, error);
+  if (error)
+    throw StoreError(StoreErrorKind::environment,
+                     fmt::format("cannot open results database '{}': {}", path, error.message()));
+  if (size == 0) return false;
+  if (!has_sqlite_header(path)) throw_not_hyfal(path, "it is not a SQLite database");
+  return true;
+}
+
+void remove_unused_wal_files(const std::string& path) noexcept;
+
+// A read-only connection to an existing database file. A read-only connection in WAL mode
+// creates the -wal (empty) and -shm files when they are missing, and cannot delete them when it
+// closes (SQLite's last writer does): once it has closed, they are removed (see
+// remove_unused_wal_files).
+class ReadOnlyConnection {
+ public:
+  explicit ReadOnlyConnection(const std::string& path);
+  ReadOnlyConnection(const ReadOnlyConnection&) = delete;
+  ReadOnlyConnection& operator=(const ReadOnlyConnection&) = delete;
+  ~ReadOnlyConnection() {
+    connection_.reset();
+    if (may_leave_wal_files_) remove_unused_wal_files(path_);
+  }
+
+  sqlite3* get() const { return connection_.get(); }
+  // Hands the connection over; whoever closes it must then remove the -wal/-shm files of the
+  // returned path, unless it is empty.
+  std::pair<sqlite3*, std::string> release() {
+    const bool cleanup = std::exchange(may_leave_wal_files_, false);
+    return {connection_.release(), cleanup ? path_ : std::string()};
+  }
+
+ private:
+  std::string path_;
+  bool may_leave_wal_files_ = false;  // false when read as immutable (no -wal/-shm at all)
+  RawConnection connection_{nullptr, &sqlite3_close_v2};
+};
+
+ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
+  const std::string wal = path + "-wal";
+  const std::filesystem::path parent = std::filesystem::absolute(std::filesystem::path(path)).parent_path();
+  const bool writable = ::access(path.c_str(), W_OK) == 0 && ::access(parent.c_str(), W_OK) == 0;
+  // Without a -wal file no connection has the database open, and one that cannot write it
+  // cannot become a writer: reading it as immutable (no locks, no -shm) is then exact.
+  const bool immutable = !path_exists(wal) && !writable;
+  const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_URI;
+  connection_ = open_connection(path, sqlite_uri(path, immutable ? "mode=ro&immutable=1" : "mode=ro"), flags);
+  if (immutable) return;
+  may_leave_wal_files_ = true;
+  // The first read opens the WAL index (-shm); where it cannot be created (a read-only folder)
+  // SQLite fails with SQLITE_CANTOPEN, and the file is read as immutable instead.
+  const int rc = sqlite3_exec(connection_.get(), "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  if ((rc & 0xff) == SQLITE_CANTOPEN || rc == SQLITE_READONLY_CANTINIT || rc == SQLITE_READONLY_RECOVERY ||
+      rc == SQLITE_READONLY_DIRECTORY) {
+    connection_ = open_connection(path, sqlite_uri(path, "mode=ro&immutable=1"), flags);
+    may_leave_wal_files_ = false;
+  } else if ((rc & 0xff) == SQLITE_NOTADB) {
+    throw_not_hyfal(path, sqlite3_errmsg(connection_.get()));
+  } else if (rc != SQLITE_OK) {
+    throw_sqlite_error(connection_.get(), fmt::format("cannot open results database '{}'", path));
+  }
+}
+
+// Removes the -wal and -shm files of path if they hold nothing and no connection uses them: a
+// read-write connection that reads one page and closes does exactly that (SQLite checkpoints
+// the empty WAL, which writes nothing to the database, and deletes both files when it closes
+// as the last connection). It takes no lock that a writer would wait on: if another connection
+// has the database open, it leaves the files to it. A -wal with content (a crashed writer's) is
+// left for the next writer to recover: a reader does not write.
+void remove_unused_wal_files(const std::string& path) noexcept {
+  std::error_code error;
+  const std::string wal = path + "-wal";
+  const bool wal_exists = std::filesystem::exists(wal, error);
+  if (wal_exists && std::filesystem::file_size(wal, error) != 0) return;
+  if (error || (!wal_exists && !path_exists(path + "-shm"))) return;
+  if (::access(path.c_str(), W_OK) != 0) return;
+  sqlite3* raw = nullptr;
+  if (sqlite3_open_v2(sqlite_uri(path, "mode=rw").c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_URI,
+                      nullptr) == SQLITE_OK)
+    sqlite3_exec(raw, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  sqlite3_close_v2(raw);
+}
+
+// Makes a read-write connection ready for use and creates the schema where it is missing.
+void configure(sqlite3* connection, const std::string& path) {
+  const auto run = [&](const char* sql) {
     if (sqlite3_exec(connection, sql, nullptr, nullptr, nullptr) != SQLITE_OK)
-      throw StoreError(sqlite3_errmsg(connection));
+      throw_sqlite_error(connection, fmt::format("cannot open results database '{}'", path));
   };
-  if (sqlite3_busy_timeout(connection, kBusyTimeoutMs) != SQLITE_OK)
-    throw StoreError(sqlite3_errmsg(connection));
   // WAL: readers (a report run) do not block the writer. synchronous=NORMAL in WAL mode keeps
   // every committed trial across a crash of the process (kill -9); only a power loss may drop
   // the last commits, which is an acceptable trade for not syncing on each trial.
@@ -172,24 +450,52 @@ void configure(sqlite3* connection) {
   // IMMEDIATE: two processes opening a new database at once create the schema one at a time.
   run("BEGIN IMMEDIATE");
   if (sqlite3_exec(connection, kSchemaSql, nullptr, nullptr, nullptr) != SQLITE_OK) {
+    const int rc = sqlite3_extended_errcode(connection);
     const std::string message = sqlite3_errmsg(connection);
     sqlite3_exec(connection, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw StoreError(fmt::format("cannot create schema: {}", message));
+    throw StoreError(kind_of(rc), fmt::format("cannot create the schema of results database '{}': {}", path, message));
   }
   run("COMMIT");
 }
 
-void check_schema_version(sqlite3* connection) {
-  sqlite3_stmt* raw = nullptr;
-  if (sqlite3_prepare_v2(connection, "SELECT value FROM meta WHERE key = 'schema_version'", -1,
-                         &raw, nullptr) != SQLITE_OK)
-    throw_sqlite_error(connection, "cannot read schema version");
-  std::unique_ptr<sqlite3_stmt, decltype(&sqlite3_finalize)> statement(raw, &sqlite3_finalize);
-  StatementUse use(statement.get());
-  const std::string version = use.step() ? use.text(0) : std::string();
-  if (version != std::to_string(kSchemaVersion))
-    throw StoreError(fmt::format("schema version is '{}', this build reads version {}", version,
-                                 kSchemaVersion));
+double unix_time_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// Fields of /proc/<pid>/stat after the command name: [0] is the state, [19] the start time.
+std::vector<std::string> proc_stat_fields(std::int64_t pid) {
+  std::ifstream in(fmt::format("/proc/{}/stat", pid));
+  std::string text;
+  std::getline(in, text);
+  const auto close = text.rfind(')');  // the command name may hold spaces and parentheses
+  std::vector<std::string> fields;
+  if (close == std::string::npos) return fields;
+  std::istringstream rest(text.substr(close + 1));
+  for (std::string field; rest >> field;) fields.push_back(field);
+  return fields;
+}
+
+// Whether the process that made a claim on this host still runs: the pid exists, is no zombie,
+// and started when the claimant did (a reused pid belongs to another process).
+bool claimant_process_alive(std::int64_t pid, std::int64_t process_start) {
+  if (pid <= 0) return false;
+  if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) return false;
+  const auto fields = proc_stat_fields(pid);
+  if (fields.size() < 20) return true;  // no /proc: trust kill()
+  if (fields[0] == "Z" || fields[0] == "X") return false;
+  return process_start == 0 || fields[19] == std::to_string(process_start);
+}
+
+struct ClaimRow {
+  std::string host, token;
+  std::int64_t pid = 0, process_start = 0;
+  double heartbeat = 0.0;
+};
+
+bool claim_is_live(const ClaimRow& claim, const ClaimOwner& self, double now) {
+  if (now - claim.heartbeat > kClaimStaleAfter) return false;
+  if (claim.host == self.host) return claimant_process_alive(claim.pid, claim.process_start);
+  return true;
 }
 
 }  // namespace
@@ -198,33 +504,21 @@ void TrialStore::ConnectionCloser::operator()(sqlite3* connection) const noexcep
   // close_v2 defers the close until the last statement is finalized, so destruction order
   // (e.g. in a move assignment) cannot leak the connection.
   sqlite3_close_v2(connection);
+  if (!remove_wal_files_of.empty()) remove_unused_wal_files(remove_wal_files_of);
 }
 
 void TrialStore::StatementFinalizer::operator()(sqlite3_stmt* statement) const noexcept {
   sqlite3_finalize(statement);
 }
 
-TrialStore::TrialStore(std::string path, Connection connection)
-    : path_(std::move(path)), connection_(std::move(connection)) {
-  insert_trial_ = prepare(
-      fmt::format("INSERT INTO trials ({}) VALUES "
-                  "(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, "
-                  "?18, ?19, ?20, ?21, ?22)",
-                  kTrialColumns)
-          .c_str());
-  insert_series_point_ =
-      prepare("INSERT INTO series (trial_id, name, x, y) VALUES (?1, ?2, ?3, ?4)");
+TrialStore::TrialStore(std::string path, Connection connection, bool writable)
+    : path_(std::move(path)), writable_(writable), connection_(std::move(connection)) {
+  const char* key6 =
+      "experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 AND trial_index = ?6";
   select_trial_indices_ = prepare(
       "SELECT trial_index FROM trials "
       "WHERE experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 "
       "AND status <> 'error'");
-  delete_error_series_ = prepare(
-      "DELETE FROM series WHERE trial_id IN (SELECT id FROM trials WHERE experiment = ?1 AND "
-      "suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 AND trial_index = ?6 AND "
-      "status = 'error')");
-  delete_error_trial_ = prepare(
-      "DELETE FROM trials WHERE experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 "
-      "AND config = ?5 AND trial_index = ?6 AND status = 'error'");
   select_trials_ = prepare(
       fmt::format("SELECT {} FROM trials WHERE ?1 IS NULL OR experiment = ?1 "
                   "ORDER BY suite, instance, method, config, trial_index, experiment",
@@ -235,30 +529,78 @@ TrialStore::TrialStore(std::string path, Connection connection)
       "t.suite = ?2 AND t.instance = ?3 AND t.method = ?4 AND t.config = ?5 AND t.trial_index = ?6 "
       "AND s.name = ?7 ORDER BY s.rowid");
   select_experiments_ = prepare("SELECT DISTINCT experiment FROM trials ORDER BY experiment");
+  select_status_ = prepare(fmt::format("SELECT status FROM trials WHERE {}", key6).c_str());
+  if (!writable_) return;  // a reader needs no claims table, and prepares no writes
+  insert_trial_ = prepare(
+      fmt::format("INSERT INTO trials ({}) VALUES "
+                  "(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, "
+                  "?18, ?19, ?20, ?21, ?22)",
+                  kTrialColumns)
+          .c_str());
+  insert_series_point_ =
+      prepare("INSERT INTO series (trial_id, name, x, y) VALUES (?1, ?2, ?3, ?4)");
+  delete_error_series_ = prepare(
+      "DELETE FROM series WHERE trial_id IN (SELECT id FROM trials WHERE experiment = ?1 AND "
+      "suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 AND trial_index = ?6 AND "
+      "status = 'error')");
+  delete_error_trial_ = prepare(
+      fmt::format("DELETE FROM trials WHERE {} AND status = 'error'", key6).c_str());
+  select_claim_ = prepare(
+      fmt::format("SELECT host, pid, process_start, token, heartbeat FROM claims WHERE {}", key6).c_str());
+  upsert_claim_ = prepare(
+      "INSERT OR REPLACE INTO claims (experiment, suite, instance, method, config, trial_index, host, pid, "
+      "process_start, token, heartbeat) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
+  delete_claim_ = prepare(fmt::format("DELETE FROM claims WHERE {}", key6).c_str());
+  refresh_claims_ = prepare("UPDATE claims SET heartbeat = ?1 WHERE token = ?2");
+  delete_claims_of_owner_ = prepare("DELETE FROM claims WHERE token = ?1");
 }
 
 TrialStore::TrialStore(TrialStore&&) noexcept = default;
-TrialStore& TrialStore::operator=(TrialStore&&) noexcept = default;
+TrialStore& TrialStore::operator=(TrialStore&& other) noexcept {
+  // Not member-wise: this store's statements must be finalized before its connection closes,
+  // so that the connection really closes (and cleans up its -wal/-shm files) here and now.
+  if (this != &other) {
+    std::destroy_at(this);
+    std::construct_at(this, std::move(other));
+  }
+  return *this;
+}
 TrialStore::~TrialStore() = default;
 
+void TrialStore::require_writable(const char* what) const {
+  if (!writable_)
+    throw std::logic_error(fmt::format("{} on results database '{}' opened read-only", what, path_));
+}
+
 TrialStore TrialStore::open(const std::string& path) {
-  try {
+  if (existing_database_file(path)) {
+    // Check first, reading only: a file that is not a hyfal database is never written to.
+    const ReadOnlyConnection check(path);  // closed (and its -wal/-shm removed) at the end of this block
+    check_hyfal_schema(check.get(), path);
+  } else {
     create_parent_directories(path);
-    sqlite3* raw = nullptr;
-    const int rc = sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,
-                                   nullptr);
-    Connection connection(raw);  // sqlite3_open_v2 allocates a handle even when it fails
-    if (rc != SQLITE_OK) {
-      if (raw == nullptr) throw StoreError(sqlite3_errstr(rc));
-      throw StoreError(sqlite3_errmsg(raw));
-    }
-    sqlite3_extended_result_codes(raw, 1);
-    configure(raw);
-    check_schema_version(raw);
-    return TrialStore(path, std::move(connection));
-  } catch (const StoreError& error) {
-    throw StoreError(fmt::format("cannot open results database '{}': {}", path, error.what()));
   }
+  RawConnection raw =
+      open_connection(path, sqlite_uri(path, "mode=rwc"), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_URI);
+  Connection connection(raw.release());
+  configure(connection.get(), path);
+  // Another process may have filled an empty file in between: check what we now write to.
+  if (!check_hyfal_schema(connection.get(), path))
+    throw StoreError(StoreErrorKind::environment,
+                     fmt::format("results database '{}' lost its schema while opening", path));
+  return TrialStore(path, std::move(connection), true);
+}
+
+TrialStore TrialStore::open_read_only(const std::string& path) {
+  if (!existing_database_file(path)) {
+    if (!path_exists(path))
+      throw StoreError(StoreErrorKind::bad_input, fmt::format("no results database at '{}'", path));
+    throw_not_hyfal(path, "it is empty");
+  }
+  auto [raw, cleanup_path] = ReadOnlyConnection(path).release();
+  Connection connection(raw, ConnectionCloser{std::move(cleanup_path)});
+  if (!check_hyfal_schema(connection.get(), path)) throw_not_hyfal(path, "it has no tables");
+  return TrialStore(path, std::move(connection), false);
 }
 
 TrialStore::Statement TrialStore::prepare(const char* sql) {
@@ -270,12 +612,14 @@ TrialStore::Statement TrialStore::prepare(const char* sql) {
 }
 
 std::int64_t TrialStore::insert(const TrialRecord& record) {
+  require_writable("insert");
   // One transaction: an earlier attempt of the same trial that ended in error is replaced (so a
-  // resumed run retries errors), and the row is stored with its series, whole or not at all.
+  // resumed run retries errors), the row is stored with its series, whole or not at all, and
+  // the trial's claim ends with it.
   execute(connection_.get(), "BEGIN IMMEDIATE",
           fmt::format("cannot start transaction on results database '{}'", path_));
   try {
-    for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get()}) {
+    for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get(), delete_claim_.get()}) {
       StatementUse use(statement);
       bind_key_without_index(use, record.key);
       use.bind(6, record.key.trial_index);
@@ -316,7 +660,7 @@ std::int64_t TrialStore::insert_row(const TrialRecord& record) {
   use.bind(22, record.metrics);
   const int rc = sqlite3_step(insert_trial_.get());
   if (rc == SQLITE_CONSTRAINT_UNIQUE)
-    throw StoreError(fmt::format("results database '{}' already holds the trial ({})", path_,
+    throw StoreError(StoreErrorKind::bad_input, fmt::format("results database '{}' already holds the trial ({})", path_,
                                  describe(record.key)));
   if (rc != SQLITE_DONE)
     throw_sqlite_error(connection_.get(),
@@ -327,6 +671,7 @@ std::int64_t TrialStore::insert_row(const TrialRecord& record) {
 
 void TrialStore::insert_series(std::int64_t trial_id, const std::string& name,
                                std::span<const std::pair<double, double>> points) {
+  require_writable("insert_series");
   // One transaction for all points: a series is stored whole or not at all, and one commit is
   // much cheaper than one per point.
   execute(connection_.get(), "BEGIN IMMEDIATE",
@@ -381,7 +726,7 @@ std::vector<TrialRecord> TrialStore::load(std::optional<std::string> experiment)
     const std::string status = use.text(7);
     const auto parsed_status = parse_trial_status(status);
     if (!parsed_status)
-      throw StoreError(fmt::format("results database '{}' holds unknown trial status '{}'", path_,
+      throw StoreError(StoreErrorKind::bad_input, fmt::format("results database '{}' holds unknown trial status '{}'", path_,
                                    status));
     record.status = *parsed_status;
     record.validated = use.integer(8) != 0;
@@ -418,6 +763,154 @@ std::vector<std::string> TrialStore::experiments() {
   std::vector<std::string> names;
   while (use.step()) names.push_back(use.text(0));
   return names;
+}
+
+// --- claims -------------------------------------------------------------------------------------
+
+const ClaimOwner& ClaimOwner::this_process() {
+  static const ClaimOwner owner = [] {
+    ClaimOwner o;
+    char name[256] = {};
+    o.host = gethostname(name, sizeof name - 1) == 0 ? name : "unknown";
+    // Processes in different pid namespaces (containers) may share a host name: a pid means
+    // something only inside its namespace, so the namespace is part of where the claim was made.
+    std::error_code error;
+    const auto ns = std::filesystem::read_symlink("/proc/self/ns/pid", error);
+    if (!error) o.host += " " + ns.string();
+    o.pid = ::getpid();
+    const auto fields = proc_stat_fields(o.pid);
+    if (fields.size() >= 20) o.process_start = std::stoll(fields[19]);
+    std::random_device entropy;
+    o.token = fmt::format("{:08x}{:08x}{:08x}{:08x}", entropy(), entropy(), entropy(), entropy());
+    return o;
+  }();
+  return owner;
+}
+
+bool TrialStore::is_stored(const TrialKey& key) {
+  StatementUse use(select_status_.get());
+  bind_key_without_index(use, key);
+  use.bind(6, key.trial_index);
+  return use.step() && use.text(0) != to_string(TrialStatus::error);
+}
+
+bool TrialStore::claim(const TrialKey& key, const ClaimOwner& owner) {
+  require_writable("claim");
+  // One write transaction: two processes claiming the same trial take turns, and the second
+  // sees the first one's claim.
+  execute(connection_.get(), "BEGIN IMMEDIATE",
+          fmt::format("cannot start transaction on results database '{}'", path_));
+  try {
+    bool available = !is_stored(key);
+    if (available) {
+      StatementUse use(select_claim_.get());
+      bind_key_without_index(use, key);
+      use.bind(6, key.trial_index);
+      if (use.step()) {
+        const ClaimRow row{use.text(0), use.text(3), use.integer(1), use.integer(2), use.real(4)};
+        available = row.token == owner.token || !claim_is_live(row, owner, unix_time_now());
+      }
+    }
+    if (available) {
+      StatementUse use(upsert_claim_.get());
+      bind_key_without_index(use, key);
+      use.bind(6, key.trial_index);
+      use.bind(7, owner.host);
+      use.bind(8, owner.pid);
+      use.bind(9, owner.process_start);
+      use.bind(10, owner.token);
+      use.bind(11, unix_time_now());
+      if (use.step()) throw std::logic_error("an INSERT returned a row");
+    }
+    execute(connection_.get(), "COMMIT", fmt::format("cannot commit a claim to results database '{}'", path_));
+    return available;
+  } catch (...) {
+    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::vector<TrialProgress> TrialStore::progress(const std::vector<TrialKey>& keys, const ClaimOwner& self) {
+  require_writable("progress");  // the claims table is a writer's
+  // One read transaction: every answer comes from the same snapshot. It never blocks a writer.
+  execute(connection_.get(), "BEGIN", fmt::format("cannot read results database '{}'", path_));
+  try {
+    const double now = unix_time_now();
+    std::vector<TrialProgress> states;
+    states.reserve(keys.size());
+    for (const TrialKey& key : keys) {
+      std::optional<std::string> status;
+      {
+        StatementUse use(select_status_.get());
+        bind_key_without_index(use, key);
+        use.bind(6, key.trial_index);
+        if (use.step()) status = use.text(0);
+      }
+      if (status && *status != to_string(TrialStatus::error)) {
+        states.push_back(TrialProgress::stored);
+        continue;
+      }
+      StatementUse use(select_claim_.get());
+      bind_key_without_index(use, key);
+      use.bind(6, key.trial_index);
+      if (use.step()) {
+        // A claim left by this process (a failed attempt) or by an owner that is gone: run it.
+        const ClaimRow row{use.text(0), use.text(3), use.integer(1), use.integer(2), use.real(4)};
+        states.push_back(row.token != self.token && claim_is_live(row, self, now) ? TrialProgress::claimed_by_other
+                                                                                  : TrialProgress::needs_runner);
+      } else {
+        // Unclaimed: an error row was stored by whoever retried the trial in this run.
+        states.push_back(status ? TrialProgress::stored_error : TrialProgress::needs_runner);
+      }
+    }
+    execute(connection_.get(), "COMMIT", fmt::format("cannot read results database '{}'", path_));
+    return states;
+  } catch (...) {
+    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::int64_t TrialStore::refresh_claims(const ClaimOwner& owner) {
+  require_writable("refresh_claims");
+  StatementUse use(refresh_claims_.get());
+  use.bind(1, unix_time_now());
+  use.bind(2, owner.token);
+  use.step();
+  return sqlite3_changes64(connection_.get());
+}
+
+void TrialStore::release_claims(const ClaimOwner& owner) {
+  require_writable("release_claims");
+  StatementUse use(delete_claims_of_owner_.get());
+  use.bind(1, owner.token);
+  use.step();
+}
+
+ClaimHeartbeat::ClaimHeartbeat(const std::string& database_path, ClaimOwner owner)
+    : store_(TrialStore::open(database_path)), owner_(std::move(owner)) {
+  thread_ = std::jthread([this](std::stop_token stop) {
+    const auto interval = std::chrono::duration<double>(kClaimHeartbeatInterval);
+    std::unique_lock lock(mutex_);
+    while (!wake_.wait_for(lock, stop, interval, [] { return false; }) && !stop.stop_requested()) {
+      try {
+        store_.refresh_claims(owner_);
+      } catch (const StoreError&) {
+        // Busy past the timeout or a passing I/O error: the next beat tries again; the claims go
+        // stale only after kClaimStaleAfter without any successful beat.
+      }
+    }
+  });
+}
+
+ClaimHeartbeat::~ClaimHeartbeat() {
+  thread_.request_stop();
+  if (thread_.joinable()) thread_.join();
+  try {
+    store_.release_claims(owner_);
+  } catch (const StoreError&) {
+    // Unreleased claims go stale on their own (at once on this host, once the process is gone).
+  }
 }
 
 }  // namespace hyfal

@@ -2,13 +2,17 @@
 // One row per trial, committed on insert, so an interrupted run (even kill -9) keeps every
 // finished trial and a rerun resumes by skipping the trial indices already stored.
 #pragma once
+#include <condition_variable>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <span>
 #include <stdexcept>
+#include <stop_token>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -19,19 +23,64 @@ struct sqlite3_stmt;
 
 namespace hyfal {
 
+// What a failure of the results database says about its cause, and so the exit code it gets.
+enum class StoreErrorKind {
+  // The user named something that is not a usable hyfal database: not a hyfal database, an
+  // unsupported schema version, a directory, an empty path. Nothing was written (exit 2).
+  bad_input,
+  // The machine failed a database that was fine: disk full, I/O error, locked past the busy
+  // timeout, permission lost, the file vanished (exit 3).
+  environment,
+};
+
 // Any failure of the results database; what() is one line naming the database and the cause.
 class StoreError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  StoreError(StoreErrorKind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  StoreErrorKind kind() const noexcept { return kind_; }
+
+ private:
+  StoreErrorKind kind_;
+};
+
+// Who runs a claimed trial: one process, told apart from a later process that reuses its pid by
+// the start time the kernel records for it.
+struct ClaimOwner {
+  std::string host;                 // host name and pid namespace: where `pid` means this process
+  std::int64_t pid = 0;
+  std::int64_t process_start = 0;   // /proc/<pid>/stat field 22 (clock ticks after boot), 0 if unknown
+  std::string token;                // random per process: the owner's identity in the database
+
+  // The calling process (the same value on every call).
+  static const ClaimOwner& this_process();
+};
+
+// Claims are refreshed every kClaimHeartbeatInterval by ClaimHeartbeat; a claim whose heartbeat
+// is older than kClaimStaleAfter belongs to an owner that is gone (or hung, or on a host whose
+// clock is that far off: hosts sharing a database must keep their clocks within a few seconds).
+// A claim of an owner on this host whose process has ended is stale at once.
+inline constexpr double kClaimHeartbeatInterval = 5.0;  // seconds
+inline constexpr double kClaimStaleAfter = 60.0;        // seconds
+
+// Where one trial of a cooperative run stands.
+enum class TrialProgress {
+  stored,            // stored with a status other than error: done
+  stored_error,      // stored as error and not claimed: done in this run (it ended in error)
+  claimed_by_other,  // a live owner other than the asking process runs it: wait for it
+  needs_runner,      // neither stored nor claimed by a live owner: run it
 };
 
 // Schema (snake_case, version 1, recorded in table meta as schema_version):
 //   trials(id, experiment, suite, instance, method, config, trial_index, seed, status,
 //          validated, wall_s, cpu_s, nodes, propagations, integration_steps, witness, error,
-//          threads, host, git_commit, started_at, finished_at)
+//          threads, host, git_commit, started_at, finished_at, metrics)
 //     UNIQUE(experiment, suite, instance, method, config, trial_index);
 //     witness and error are NULL when empty.
 //   series(trial_id -> trials.id, name, x, y): per-trial progress curves, e.g. coverage vs nodes.
+//   claims(experiment, suite, instance, method, config, trial_index, host, pid, process_start,
+//          token, heartbeat): the trials a process is running now, so that several processes on
+//          one experiment run each trial once. Created by writers when missing (IF NOT EXISTS),
+//          so databases written before it existed still open; readers do not need it.
 //
 // Thread-safety: a TrialStore holds one SQLite connection and its prepared statements, so one
 // TrialStore must be used from one thread at a time; the caller serializes access (e.g. one
@@ -39,11 +88,23 @@ class StoreError : public std::runtime_error {
 // WAL mode plus a 5 s busy timeout lets them take turns.
 class TrialStore {
  public:
-  // Opens (creating it and its parent directories if missing) the database at path and creates
-  // the schema if it is not there yet. Throws StoreError "cannot open results database '<path>':
-  // <cause>" if the path cannot be created or opened, is not a SQLite database, or holds a
-  // different schema version.
+  // Opens the database at path for writing. A missing path or an empty file (or a SQLite
+  // database without any table) is created with the schema, with its parent directories. Any
+  // other file is first opened read-only and checked to be a hyfal results database of schema
+  // version 1 (tables meta, trials and series with hyfal's columns); only then is it opened for
+  // writing, so a file that is not one is never changed. Throws StoreError: bad_input for a file
+  // that is not a hyfal database, an unsupported schema version, a directory or an empty path;
+  // environment when a usable path cannot be opened (I/O, disk full, locked, permissions).
   static TrialStore open(const std::string& path);
+
+  // Opens an existing hyfal database for reading only (URI mode=ro: works on a read-only file
+  // or folder, never takes a write lock, never waits for a writer: WAL readers see the last
+  // commit). Where WAL would need a -shm file that cannot be created (read-only folder), or the
+  // file is read-only and no writer has it open, it is read as immutable. -wal/-shm files that
+  // opening created are removed when the store closes, unless another connection uses them by
+  // then (SQLite removes them at that connection's close). The write methods (insert, claim, ...)
+  // must not be called on it (std::logic_error). Throws StoreError like open().
+  static TrialStore open_read_only(const std::string& path);
 
   TrialStore(TrialStore&&) noexcept;
   TrialStore& operator=(TrialStore&&) noexcept;
@@ -54,8 +115,26 @@ class TrialStore {
   const std::string& path() const { return path_; }
 
   // Inserts one trial in its own transaction, committed when this returns; returns its row id.
-  // Throws StoreError if a trial with the same key is already stored.
+  // A claim on the trial is deleted in the same transaction. Throws StoreError (bad_input) if a
+  // trial with the same key is already stored with a status other than error.
   std::int64_t insert(const TrialRecord& record);
+
+  // Whether a trial with this key is stored with a status other than error.
+  bool is_stored(const TrialKey& key);
+
+  // Claims the trial for owner in one write transaction, right before running it. False if it is
+  // stored with a status other than error, or claimed by a live owner other than this one; a
+  // stale claim (see kClaimStaleAfter) is taken over.
+  bool claim(const TrialKey& key, const ClaimOwner& owner);
+
+  // Where each trial stands for the process `self` (one read transaction for all keys).
+  std::vector<TrialProgress> progress(const std::vector<TrialKey>& keys, const ClaimOwner& self);
+
+  // Sets the heartbeat of every claim of owner to now; returns how many there are.
+  std::int64_t refresh_claims(const ClaimOwner& owner);
+
+  // Drops every claim of owner (a run that stops hands its trials over at once).
+  void release_claims(const ClaimOwner& owner);
 
   // Stores the points of the series called name of trial trial_id (a row id from insert), all
   // or none of them.
@@ -80,6 +159,9 @@ class TrialStore {
 
  private:
   struct ConnectionCloser {
+    // A read-only connection that created the -wal/-shm files of its database names it here:
+    // they are removed after it closes, unless another connection uses them by then.
+    std::string remove_wal_files_of;
     void operator()(sqlite3* connection) const noexcept;
   };
   struct StatementFinalizer {
@@ -88,10 +170,12 @@ class TrialStore {
   using Connection = std::unique_ptr<sqlite3, ConnectionCloser>;
   using Statement = std::unique_ptr<sqlite3_stmt, StatementFinalizer>;
 
-  TrialStore(std::string path, Connection connection);
+  TrialStore(std::string path, Connection connection, bool writable);
   Statement prepare(const char* sql);
+  void require_writable(const char* what) const;
 
   std::string path_;
+  bool writable_ = false;
   // The connection is declared before the statements so it is destroyed after them.
   Connection connection_;
   Statement insert_trial_;
@@ -105,6 +189,31 @@ class TrialStore {
   Statement select_trial_indices_;
   Statement select_trials_;
   Statement select_experiments_;
+  Statement select_status_;
+  Statement select_claim_;
+  Statement upsert_claim_;
+  Statement delete_claim_;
+  Statement refresh_claims_;
+  Statement delete_claims_of_owner_;
+};
+
+// Keeps the claims of one owner fresh while a run goes on: a thread with its own connection to
+// the database refreshes them every kClaimHeartbeatInterval. Destroying it stops the thread and
+// releases the owner's remaining claims (those of trials a failed run did not finish), so other
+// processes take them over at once. A failed refresh is retried at the next beat.
+class ClaimHeartbeat {
+ public:
+  ClaimHeartbeat(const std::string& database_path, ClaimOwner owner);
+  ClaimHeartbeat(const ClaimHeartbeat&) = delete;
+  ClaimHeartbeat& operator=(const ClaimHeartbeat&) = delete;
+  ~ClaimHeartbeat();
+
+ private:
+  TrialStore store_;
+  ClaimOwner owner_;
+  std::mutex mutex_;
+  std::condition_variable_any wake_;
+  std::jthread thread_;  // last: started after, and stopped before, everything it uses
 };
 
 }  // namespace hyfal

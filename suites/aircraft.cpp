@@ -59,11 +59,13 @@
 //   safer protocol 5-10 times likelier to collide under random wind; we keep the literal rule.)
 // Safer protocol (seed 002 Sect. 4.2.1): the pair's turns (a_i, a_j) ∈ {−90°, +90°}² maximize
 // the minimum distance along the two predicted half circles (closed-form circles, no wind, ω =
-// −sign(a) c, over [0, π/c]): a 64-interval grid, then golden-section search (40 iterations)
-// around the best grid point. Candidates in the order (−,−), (−,+), (+,−), (+,+); a later one
-// replaces the best only when larger by more than 1 m, so ties keep the original protocol's
-// turns, and the validator's re-simulated state (which differs from the tree's by ~1e-9) cannot
-// flip a near-tie.
+// −sign(a) c, over [0, π/c]), computed exactly: the difference of two such circles is a rotating
+// vector (equal turns) or a point moving on a line (opposite turns), whose stationary points are
+// closed forms (aircraft_halfcircle_min_distance). It was sampled before (64 intervals, then a
+// golden section), which missed narrow dips and could choose the wrong turns (issue 11).
+// Candidates in the order (−,−), (−,+), (+,−), (+,+); a later one replaces the best only when
+// larger by more than 1 m, so ties keep the original protocol's turns, and the validator's
+// re-simulated state (which differs from the tree's by ~1e-9) cannot flip a near-tie.
 // Specification: s = min over pairs of flying aircraft of the distance − d (1000 km when fewer
 // than two fly). Arrived aircraft are ignored: they have left the airspace (an aircraft crossing
 // another's goal would otherwise "collide" with it without the protocol ever reacting).
@@ -217,34 +219,64 @@ AircraftScenario aircraft_esposito5_scenario() {
 
 // --- the safer protocol's rule ----------------------------------------------------------------
 
+// Exact closest approach of the two predicted half circles. With φ = c t in [0, π], σ = +1 for a
+// right avoidance (ω = +c) and −1 for a left one, R = v / c and e(α) = (sin α, −cos α), aircraft k
+// flies P_k(φ) = C_k + σ_k R e(θ_k + σ_k φ) about its centre C_k = (x_k, y_k) − σ_k R e(θ_k), so
+// D(φ) = P_i − P_j is one of two closed forms:
+//   σ_i = σ_j = σ:  D = ΔC + Rot(σ φ) w with w = σ R (e(θ_i) − e(θ_j)), so |D|² = const +
+//                   2 |ΔC| |w| cos(σ φ − β): a sinusoid, stationary where σ φ ≡ β (mod π);
+//   σ_i = −σ_j:     D = ΔC + λ(φ) u with u = e((θ_i + θ_j)/2), λ = 2 σ_i R cos((θ_i − θ_j)/2 + σ_i φ)
+//                   (sum-to-product), so D runs along a line and |D|² = |ΔC|² + 2 λ ΔC·u + λ² is
+//                   stationary where λ = −ΔC·u or λ' = 0 (cos = ±1).
+// A minimum over [0, π] lies at an endpoint or a stationary point; all of them are enumerated in
+// closed form and |D| is evaluated there on the positions themselves (not through the expanded
+// squares, which would cancel). So the result is the global minimum up to rounding (~1e-12 km):
+// no sampling that a narrow dip could slip through (the former 64-interval grid with a golden
+// section scored a pair of random N = 10, instance seed 3, 0.5624 km for a true 0.5238 km).
 double aircraft_halfcircle_min_distance(const std::array<double, 3>& i, double turn_i,
                                         const std::array<double, 3>& j, double turn_j, double v, double c) {
   const double thi = i[2] + turn_i, thj = j[2] + turn_j;
-  const double omi = turn_i < 0 ? c : -c, omj = turn_j < 0 ? c : -c;
-  auto dist = [&](double t) {
+  const double si = turn_i < 0 ? 1.0 : -1.0, sj = turn_j < 0 ? 1.0 : -1.0;
+  const double omi = si * c, omj = sj * c;
+  auto dist = [&](double phi) {
+    const double t = phi / c;
     const auto a = on_circle(i, thi, omi, v, t), b = on_circle(j, thj, omj, v, t);
     return std::hypot(a[0] - b[0], a[1] - b[1]);
   };
-  // A grid of 64 intervals over [0, π/c], then golden-section search around the best grid point.
-  constexpr int kGrid = 64;
-  const double T = kPi / c, h = T / kGrid;
-  int best = 0;
-  double best_d = dist(0.0);
-  for (int k = 1; k <= kGrid; ++k) {
-    const double dk = dist(k * h);
-    if (dk < best_d) best_d = dk, best = k;
-  }
-  double a = std::max(0.0, (best - 1) * h), b = std::min(T, (best + 1) * h);
-  const double g = (std::sqrt(5.0) - 1) / 2;
-  double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = dist(x1), f2 = dist(x2);
-  for (int it = 0; it < 40; ++it) {
-    if (f1 < f2) {
-      b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = dist(x1);
-    } else {
-      a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = dist(x2);
+  const double R = v / c;
+  auto e = [](double alpha) { return std::array<double, 2>{std::sin(alpha), -std::cos(alpha)}; };
+  const auto ei = e(thi), ej = e(thj);
+  const double dC[2] = {(i[0] - si * R * ei[0]) - (j[0] - sj * R * ej[0]), (i[1] - si * R * ei[1]) - (j[1] - sj * R * ej[1])};
+
+  double best = std::min(dist(0.0), dist(kPi));
+  // φ with σ φ ≡ alpha (mod 2π), if it lies in [0, π].
+  auto at_angle = [&](double sigma, double alpha) {
+    double phi = std::fmod(sigma * alpha, 2 * kPi);
+    if (phi < 0) phi += 2 * kPi;
+    if (phi <= kPi) best = std::min(best, dist(phi));
+  };
+  if (si == sj) {
+    const double w[2] = {si * R * (ei[0] - ej[0]), si * R * (ei[1] - ej[1])};
+    // ΔC · Rot(α) w = p cos α + q sin α = |(p, q)| cos(α − β).
+    const double pc = dC[0] * w[0] + dC[1] * w[1], qc = dC[1] * w[0] - dC[0] * w[1];
+    const double beta = std::atan2(qc, pc);
+    at_angle(si, beta);
+    at_angle(si, beta + kPi);
+  } else {
+    const double kappa = (thi - thj) / 2;
+    const auto u = e((thi + thj) / 2);
+    const double target = -(dC[0] * u[0] + dC[1] * u[1]);  // the λ nearest the origin
+    // λ = 2 σ_i R cos(κ + σ_i φ): the extremes (cos = ±1) and where λ = target.
+    at_angle(si, -kappa);
+    at_angle(si, kPi - kappa);
+    const double g = target / (2 * si * R);
+    if (g >= -1.0 && g <= 1.0) {
+      const double a = std::acos(g);
+      at_angle(si, a - kappa);
+      at_angle(si, -a - kappa);
     }
   }
-  return std::min({best_d, f1, f2});
+  return best;
 }
 
 std::array<double, 2> aircraft_safer_turns(const std::array<double, 3>& i, const std::array<double, 3>& j,
@@ -615,6 +647,7 @@ Parsed parse(const Json& instance) {
   k.c = instance.at("c").get<double>();
   k.d = instance.at("d").get<double>();
   const double w = instance.at("w").get<double>();
+  if (w < 0.0 && w != -1.0) throw std::invalid_argument("aircraft: w must be >= 0, or -1 for the example's wind bound");
   k.w = w >= 0.0 ? w : (r.random ? 0.1 : 0.03);
   r.o.step = instance.at("step").get<double>();
   r.o.max_step = instance.at("max_step").get<double>();
@@ -745,19 +778,19 @@ SuiteEntry aircraft_suite() {
       "seed 003 Sect. 6.1 / seed 002 Sect. 4.2: N aircraft, conflict-resolution protocol (original or safer), "
       "wind input; unsafe = two aircraft within d";
   e.parameters = {
-      {"example", "esposito5", "esposito5 (seed 003 Example 1, 5 aircraft) | random (seed 002 Sect. 4.2.2)"},
-      {"protocol", "original", "original (always -90°) | safer (seed 002 Sect. 4.2.1)"},
-      {"N", 10, "random: number of aircraft, 2..21"},
-      {"seed", 1, "random: instance seed"},
-      {"p", 5.25, "protect radius (avoid when closer), km; esposito5: the default of P = [4.5, 5.5]"},
-      {"d", 1.0, "collision distance, km"},
-      {"v", 0.3, "forward speed, km/s"},
-      {"c", 0.03, "turn rate of the half circle, rad/s"},
-      {"w", -1.0, "wind bound, u in [-w, w]^2 km/s; -1: the example's (esposito5 0.03, random 0.1)"},
-      {"step", 20.0, "duration δt of one tree extension, s"},
-      {"max_step", 0.5, "largest Dormand-Prince step (events shorter than this may be missed), s"},
-      {"input_levels", 3, "points per wind component in Ū (grid, endpoints included)"},
-      {"lookahead", 20.0, "HyDICE regions: bands of the closest approach predicted this far ahead (straight flight), s"}};
+      {"example", "esposito5", "esposito5 (seed 003 Example 1, 5 aircraft) | random (seed 002 Sect. 4.2.2)", "esposito5|random"},
+      {"protocol", "original", "original (always -90°) | safer (seed 002 Sect. 4.2.1)", "original|safer"},
+      {"N", 10, "random: number of aircraft, 2..21", "[2, 21]"},
+      {"seed", 1, "random: instance seed", "[0, inf)"},
+      {"p", 5.25, "protect radius (avoid when closer), km; esposito5: the default of P = [4.5, 5.5]", "(0, 1000]"},
+      {"d", 1.0, "collision distance, km", "(0, 1000]"},
+      {"v", 0.3, "forward speed, km/s", "(0, 10]"},
+      {"c", 0.03, "turn rate of the half circle, rad/s", "(0, 10]"},
+      {"w", -1.0, "wind bound, u in [-w, w]^2 km/s; -1: the example's (esposito5 0.03, random 0.1)", "[-1, 10]"},
+      {"step", 20.0, "duration δt of one tree extension, s", "[0.1, 1000]"},
+      {"max_step", 0.5, "largest Dormand-Prince step (events shorter than this may be missed), s", "[0.0001, 100]"},
+      {"input_levels", 3, "points per wind component in Ū (grid, endpoints included)", "[2, 11]"},
+      {"lookahead", 20.0, "HyDICE regions: bands of the closest approach predicted this far ahead (straight flight), s", "[0, 1000]"}};
   e.make = make_aircraft;
   e.export_instance = export_aircraft;
   e.tables = {esposito_aircraft(), plaku_table2()};

@@ -91,8 +91,8 @@ std::shared_ptr<const System> make_example31(const Json& instance) {
 SuiteEntry example31_suite() {
   return {"example31",
           "seed 000 Example 3.1: x1' = 2, x2' = u in [1, 2] (a thin reachable cone); reach [19,20]x[14,15]",
-          {{"step", 0.25, "duration δt of one tree extension"},
-           {"input_levels", 5, "points in Ū (grid over [1, 2], endpoints included)"}},
+          {{"step", 0.25, "duration δt of one tree extension", "[0.001, 100]"},
+           {"input_levels", 5, "points in Ū (grid over [1, 2], endpoints included)", "[2, 101]"}},
           make_example31,
           {}};  // no paper table: Example 3.1 only illustrates Fig. 1
 }

@@ -243,6 +243,9 @@ std::shared_ptr<const System> build_guard_intruder(const Json& instance, const G
   if (!(step > 0.0)) throw std::invalid_argument("guard-intruder: step must be > 0");
   if (!(rk4_step > 0.0 && rk4_step <= step))
     throw std::invalid_argument("guard-intruder: rk4_step must be in (0, step]");
+  // Bounds the integration work of one propagation (a tiny rk4_step must not make one extension
+  // take minutes).
+  if (step / rk4_step > 1e4) throw std::invalid_argument("guard-intruder: step / rk4_step must be <= 10000");
   if (levels < 2) throw std::invalid_argument("guard-intruder: input_levels must be >= 2");
   if (!(radius > law.r_s + law.r_c && radius <= law.r_i))
     throw std::invalid_argument("guard-intruder: start_radius must be in (140, 300] m (in S_I, outside capture)");
@@ -339,12 +342,12 @@ SuiteEntry guard_intruder_suite() {
   e.name = "guard-intruder";
   e.description =
       "seed 000 Sect. IV-B: 25-D intruder vs. four perimeter guards (eq. IV.1, IV.2); enter S_E uncaptured";
-  e.parameters = {{"step", 1.0, "duration δt of one tree extension, seconds"},
-                  {"rk4_step", 0.05, "RK4 integration step, seconds"},
-                  {"input_levels", 3, "points per input dimension in Ū (grid, endpoints included)"},
-                  {"start_radius", 280.0, "radius of the circle in S_I holding the 8 intruder starts, m"},
-                  {"cruise_speed", 10.0, "the intruder's initial speed, m/s"},
-                  {"max_speed", 15.0, "bound on the intruder's |v| (part of the invariant), m/s"}};
+  e.parameters = {{"step", 1.0, "duration δt of one tree extension, seconds", "[0.001, 100]"},
+                  {"rk4_step", 0.05, "RK4 integration step, seconds", "[1e-5, 10]"},
+                  {"input_levels", 3, "points per input dimension in Ū (grid, endpoints included)", "[2, 21]"},
+                  {"start_radius", 280.0, "radius of the circle in S_I holding the 8 intruder starts, m", "(140, 300]"},
+                  {"cruise_speed", 10.0, "the intruder's initial speed, m/s", "[0, 1000]"},
+                  {"max_speed", 15.0, "bound on the intruder's |v| (part of the invariant), m/s", "(0, 1000]"}};
   e.make = make_guard_intruder;
   e.tables = {kim_table3()};
   return e;

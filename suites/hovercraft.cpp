@@ -204,11 +204,11 @@ PaperTable kim_table2() {
 SuiteEntry hovercraft_suite() {
   return {"hovercraft",
           "seed 000 Example 3.4: hovercraft flung out of a wind vortex (r <= 100) must reach [190,200]x[0,10]",
-          {{"step", 0.5, "duration δt of one tree extension, seconds"},
-           {"input_levels", 5, "points per thrust in Ū (grid over [-10, 10]², endpoints included)"},
-           {"alpha", 0.2, "vortex wind v_air,1 = -alpha x2 inside r <= 100, 1/s"},
-           {"beta", 0.2, "vortex wind v_air,2 = beta x1 inside r <= 100, 1/s"},
-           {"rk4_step", 0.01, "RK4 integration step, seconds (<= step)"}},
+          {{"step", 0.5, "duration δt of one tree extension, seconds", "[0.001, 100]"},
+           {"input_levels", 5, "points per thrust in Ū (grid over [-10, 10]², endpoints included)", "[2, 21]"},
+           {"alpha", 0.2, "vortex wind v_air,1 = -alpha x2 inside r <= 100, 1/s", "[0, 100]"},
+           {"beta", 0.2, "vortex wind v_air,2 = beta x1 inside r <= 100, 1/s", "[0, 100]"},
+           {"rk4_step", 0.01, "RK4 integration step, seconds (<= step)", "[1e-5, 10]"}},
           make_hovercraft,
           {kim_table2()}};
 }

@@ -130,8 +130,8 @@ PaperTable kim_fig5() {
 SuiteEntry linear_suite() {
   return {"linear",
           "seed 000 Example 3.3: x' = Ax + Bu + b on [-200,200]^2 with a thin reachable band; coverage after 5000 nodes",
-          {{"step", 0.25, "duration δt of one tree extension, seconds"},
-           {"input_levels", 5, "points per input dimension in Ū (grid, endpoints included)"}},
+          {{"step", 0.25, "duration δt of one tree extension, seconds", "[0.001, 100]"},
+           {"input_levels", 5, "points per input dimension in Ū (grid, endpoints included)", "[2, 21]"}},
           make_linear,
           {kim_fig5()}};
 }

@@ -287,7 +287,15 @@ struct Interval {
 
 // f(a, i, c, L, R) of seed 002 Sect. 4.1.2 with m = max_i; the bands are written with literal
 // edges so that they partition [-1, 1] exactly in floating point.
-Interval driver_f(NavDriver d, double a, double m, double c, double L, double R) {
+//
+// a is a normalized velocity, in [-1, 1] by the mode's invariant (|a| <= a_max). The stored
+// state can lie a rounding error outside: one 2 s extension of SUni at full steering ends with
+// ω = ω_max exactly in exact arithmetic, but RK4 stores 1.0000000000000007 ω_max (the invariant
+// tolerates that, kBoundSlack). Read literally, such an a falls in no band and the driver would
+// be Random there, admitting inputs that Student and Highway forbid. So f is evaluated at a
+// clamped to the invariant's [-1, 1] (a NaN stays NaN and gets Random), and the interval is
+// clamped to [-m, m] so that rounding in its products never leaves the input box.
+Interval driver_f_bands(NavDriver d, double a, double m, double c, double L, double R) {
   const Interval any{-m, m};
   switch (d) {
     case NavDriver::random:
@@ -312,6 +320,12 @@ Interval driver_f(NavDriver d, double a, double m, double c, double L, double R)
     }
   }
   return any;
+}
+
+Interval driver_f(NavDriver d, double a, double m, double c, double L, double R) {
+  const double a_in = a > 1.0 ? 1.0 : a < -1.0 ? -1.0 : a;  // NaN passes through
+  const Interval f = driver_f_bands(d, a_in, m, c, L, R);
+  return {std::clamp(f.lo, -m, m), std::clamp(f.hi, -m, m)};
 }
 
 }  // namespace
@@ -581,6 +595,10 @@ Parsed parse(const Json& instance) {
   if (!(p.step > 0.0)) throw std::invalid_argument("navigation: step must be > 0");
   if (!(p.integration_step > 0.0 && p.integration_step <= p.step))
     throw std::invalid_argument("navigation: integration_step must be in (0, step]");
+  // Bounds the integration work of one propagation (a tiny integration_step must not make one
+  // extension take minutes).
+  if (p.step / p.integration_step > 1e4)
+    throw std::invalid_argument("navigation: step / integration_step must be <= 10000");
   if (p.levels < 2 || p.levels > 21) throw std::invalid_argument("navigation: input_levels must be in [2, 21]");
   return p;
 }
@@ -721,15 +739,15 @@ PaperTable plaku_table1() {
 SuiteEntry navigation_suite() {
   return {"navigation",
           "seed 002 Sect. 4.1: n x n terrains (SCar/SUni/SDDrive), Kruskal maze walls; reach the unsafe terrain",
-          {{"n", 4, "terrains per side (|Q| = n^2 modes), 2..4096"},
-           {"seed", 1, "instance seed: dynamics per terrain, walls, the 40 properties"},
-           {"driver", "random", "driver model: random | student | highway (for planners that use it)"},
-           {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39"},
-           {"terrain_size", 1.0, "side of one terrain, m"},
-           {"step", 2.0, "duration T of one tree extension, s"},
-           {"integration_step", 0.01, "RK4 step ε, s"},
-           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)"},
-           {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)"}},
+          {{"n", 4, "terrains per side (|Q| = n^2 modes), 2..4096", "[2, 4096]"},
+           {"seed", 1, "instance seed: dynamics per terrain, walls, the 40 properties", "[0, inf)"},
+           {"driver", "random", "driver model: random | student | highway (for planners that use it)", "random|student|highway"},
+           {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39", "[0, 39]"},
+           {"terrain_size", 1.0, "side of one terrain, m", "[0.01, 1000]"},
+           {"step", 2.0, "duration T of one tree extension, s", "[0.01, 100]"},
+           {"integration_step", 0.01, "RK4 step ε, s", "[1e-5, 10]"},
+           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)", "[2, 21]"},
+           {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)", "rad|deg"}},
           make_navigation,
           {plaku_table1()},
           navigation_instance_json};

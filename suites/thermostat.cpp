@@ -96,10 +96,10 @@ std::shared_ptr<const System> make_thermostat(const Json& instance) {
 SuiteEntry thermostat_suite() {
   return {"thermostat",
           "seed 000 Example 3.2: heater on >= 2/3 of the time after 2 min, within the first hour",
-          {{"horizon", 60.0, "time horizon in minutes (invariant x2 <= horizon)"},
-           {"step", 0.1, "duration δt of one tree extension, minutes"},
-           {"input_levels", 5, "points per input dimension in Ū (grid, endpoints included)"},
-           {"sample_window", 10.0, "x_rand draws x2 and x3 from [0, sample_window]"}},
+          {{"horizon", 60.0, "time horizon in minutes (invariant x2 <= horizon)", "(2, 10000]"},
+           {"step", 0.1, "duration δt of one tree extension, minutes", "[0.001, 10]"},
+           {"input_levels", 5, "points per input dimension in Ū (grid, endpoints included)", "[2, 101]"},
+           {"sample_window", 10.0, "x_rand draws x2 and x3 from [0, sample_window]", "(0, 10000]"}},
           make_thermostat,
           {PaperTable{
               "kim-table1",

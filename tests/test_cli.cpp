@@ -410,6 +410,45 @@ std::vector<BadCase> bad_cases() {
   add("SetNumberOverflow", run_out({"--suite", "thermostat", "--trials", "1", "--set", "step=1e400"}));
   add("SetIntegerOverflow",
       run_out({"--suite", "thermostat", "--trials", "1", "--set", "input_levels=100000000000"}));
+  // run: method options are checked against their declared ranges before anything is written
+  add("MethodOptionChoiceUnknown", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "selection=bogus"}));
+  add("MethodOptionBelowRange", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "k=-5"}));
+  add("MethodOptionHuge", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "k=2000000000"}));
+  add("MethodOptionRelation", run_out({"--suite", "thermostat", "--method", "enhanced-rrt", "--set", "sigma_min=0.6"}));
+  add("DstarBoxesZero", run_out({"--suite", "thermostat", "--method", "rrt-dstar", "--set", "boxes=0"}));
+  add("HydiceTSigmaZero", run_out({"--suite", "navigation", "--method", "hydice", "--set", "t_sigma=0"}));
+  add("HydiceControlsZero", run_out({"--suite", "navigation", "--method", "hydice", "--set", "controls=0"}));
+  add("HydiceShortestProbabilityTwo",
+      run_out({"--suite", "navigation", "--method", "hydice", "--set", "shortest_probability=2"}));
+  add("HydiceInputsUnknown", run_out({"--suite", "navigation", "--method", "hydice", "--set", "inputs=gaussian"}));
+  add("HydiceWithoutDecomposition", run_out({"--suite", "thermostat", "--method", "hydice"}));
+  add("NoLeadsWithoutDecomposition", run_out({"--suite", "hovercraft", "--method", "hydice-noleads"}));
+  add("RrftNtZero", run_out({"--suite", "thermostat", "--method", "rrft", "--set", "n_t=0"}));
+  add("RrtHasNoOptions", run_out({"--suite", "thermostat", "--method", "rrt", "--set", "k=3"}));
+  // run: suite parameters: ranges, sizes, relations
+  add("InputLevelsHuge", run_out({"--suite", "guard-intruder", "--set", "input_levels=100000"}));
+  add("Rk4StepTiny", run_out({"--suite", "guard-intruder", "--set", "rk4_step=1e-300", "--timeout", "5"}));
+  add("IntegrationStepTiny", run_out({"--suite", "navigation", "--set", "integration_step=1e-300"}));
+  add("IntegrationStepRatio", run_out({"--suite", "navigation", "--set", "integration_step=0.0001"}));
+  add("DriverUnknown", run_out({"--suite", "navigation", "--set", "driver=racer"}));
+  add("PropertyOutOfRange", run_out({"--suite", "navigation", "--set", "property=40"}));
+  add("AircraftWindBetween", run_out({"--suite", "aircraft", "--set", "w=-0.5"}));
+  add("SetRepeated", run_out({"--suite", "thermostat", "--set", "step=0.1", "--set", "step=0.2"}));
+  // run: sizes of the run itself
+  add("TrialsHuge", run_out({"--suite", "thermostat", "--trials", "2147483647"}));
+  add("ThreadsHuge", run_out({"--suite", "thermostat", "--threads", "100000"}));
+  // run: names and paths
+  add("DbEmpty", run_args({"--db", "", "--witness-dir", "out/wit"}));
+  add("WitnessDirEmpty", run_args({"--db", "out/db.sqlite", "--witness-dir", ""}));
+  add("ExperimentEscapes", run_out({"--suite", "thermostat", "--experiment", "../../escaped"}));
+  add("ExperimentAbsolute", run_out({"--suite", "thermostat", "--experiment", "/tmp/x"}));
+  add("ExperimentDotPart", run_out({"--suite", "thermostat", "--experiment", "a/./b"}));
+  add("ExperimentSpace", run_out({"--suite", "thermostat", "--experiment", "my run"}));
+  add("ExperimentEmpty", run_out({"--suite", "thermostat", "--experiment", ""}));
+  add("ReproduceDbEmpty", {"reproduce", "kim-table1", "--profile", "smoke", "--db", "", "--out-dir", "out/t"});
+  add("ReproduceThreadsHuge", {"reproduce", "kim-table1", "--profile", "smoke", "--threads", "5000", "--db",
+                               "out/db.sqlite", "--out-dir", "out/t", "--witness-dir", "out/w"});
+  add("InstanceExportBadRange", {"instance", "export", "--suite", "navigation", "--set", "n=1"});
   // run: paths
   add("DbUnderProc", run_args({"--db", "/proc/forbidden/x.sqlite", "--witness-dir", "out/wit"}));
   add("DbParentIsRegularFile", run_args({"--db", "plain/x.sqlite", "--witness-dir", "out/wit"}), plain_file);
@@ -796,6 +835,19 @@ TEST_F(CliTest, ListShowsSuitesMethodsAndSettings) {
   EXPECT_TRUE(fs::is_empty(work())) << "list writes nothing";
 }
 
+// The README's parameter table is `hyfal list --markdown`: every setting with its valid values.
+TEST_F(CliTest, ReadmeListsEverySettingWithItsRange) {
+  const Result r = hyfal({"list", "--markdown"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "| method `enhanced-rrt` | `k` | `10` | [1, 1000] |")) << r.out;
+  EXPECT_TRUE(contains(r.out, "| suite `navigation` | `driver` | `\"random\"` | random\\|student\\|highway |")) << r.out;
+  const std::string readme = read_text(fs::path(HYFAL_SOURCE_DIR) / "README.md");
+  EXPECT_TRUE(contains(readme, r.out)) << "README.md must hold the output of 'hyfal list --markdown' verbatim";
+  const Result list = hyfal({"list"});
+  EXPECT_TRUE(contains(list.out, "--set shortest_probability=0.9")) << list.out;
+  EXPECT_TRUE(contains(list.out, "[0, 1]")) << list.out;
+}
+
 TEST_F(CliTest, HelpMentionsOptions) {
   const Result r = hyfal({"run", "--help"});
   ASSERT_EQ(r.code, 0) << r;
@@ -809,9 +861,341 @@ TEST_F(CliTest, HelpMentionsOptions) {
   for (const char* sub : {"list", "run", "table", "validate"}) EXPECT_TRUE(contains(top.out, sub)) << top;
 }
 
+// ---------------------------------------------------------------------------------------------
+// 7. Cooperative runs: several processes on one experiment and database run each trial once,
+//    take over the trials of a process that died, and all print the complete table.
+
+// Starts hyfal in cwd with stdout and stderr to files; returns its pid.
+pid_t spawn_hyfal(const fs::path& cwd, const Args& args, const fs::path& out, const fs::path& err) {
+  std::vector<std::string> argv_text = {HYFAL_BIN};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_text) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(cwd.c_str()) != 0) _exit(126);
+    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in = open("/dev/null", O_RDONLY);
+    if (o < 0 || e < 0 || in < 0) _exit(126);
+    dup2(in, 0);
+    dup2(o, 1);
+    dup2(e, 2);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits for pid for at most cap_s seconds (then kills it): its exit code as decode_status gives.
+int wait_for(pid_t pid, int cap_s = 120) {
+  const auto t0 = std::chrono::steady_clock::now();
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(cap_s)) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return decode_status(status);
+}
+
+// The number in "N trials (K run now)" of a run's summary line, or -1.
+int run_now(const std::string& out) {
+  const auto at = out.find(" run now)");
+  if (at == std::string::npos) return -1;
+  const auto open = out.rfind('(', at);
+  return open == std::string::npos ? -1 : std::stoi(out.substr(open + 1, at - open - 1));
+}
+
+const Args kCooperativeRun = {"run", "--suite", "thermostat", "--threads", "1", "--db", "db.sqlite",
+                              "--witness-dir", "wit"};
+Args cooperative_run(int trials) {
+  Args a = kCooperativeRun;
+  a.insert(a.end(), {"--trials", std::to_string(trials)});
+  return a;
+}
+
+TEST_F(CliTest, TwoRunsOfOneExperimentCooperate) {
+  const pid_t a = spawn_hyfal(work(), cooperative_run(40), io() / "a.out", io() / "a.err");
+  const pid_t b = spawn_hyfal(work(), cooperative_run(40), io() / "b.out", io() / "b.err");
+  const int code_a = wait_for(a), code_b = wait_for(b);
+  const std::string out_a = read_text(io() / "a.out"), out_b = read_text(io() / "b.out");
+  const std::string both = "A:\n" + out_a + read_text(io() / "a.err") + "\nB:\n" + out_b + read_text(io() / "b.err");
+  EXPECT_EQ(code_a, 0) << both;
+  EXPECT_EQ(code_b, 0) << both;
+  // Each prints the complete table, and together they ran each trial once.
+  EXPECT_TRUE(contains(thermostat_row(out_a), "| rrt | 40 | 40 |")) << both;
+  EXPECT_TRUE(contains(thermostat_row(out_b), "| rrt | 40 | 40 |")) << both;
+  EXPECT_EQ(run_now(out_a) + run_now(out_b), 40) << both;
+  const fs::path db = work() / "db.sqlite";
+  EXPECT_EQ(sql(db, "SELECT count(*), count(DISTINCT trial_index), min(trial_index), max(trial_index), "
+                    "sum(status = 'falsified') FROM trials").text,
+            "40|40|0|39|40\n");
+  EXPECT_EQ(sql(db, "SELECT count(*) FROM claims").text, "0\n") << "no claim outlives its trial";
+  EXPECT_EQ(files_with_suffix(work() / "wit", ".json").size(), 40u);
+  EXPECT_TRUE(files_with_suffix(work() / "wit", ".tmp").empty());
+  std::cerr << "[test_cli] trials run by each process: " << run_now(out_a) << " + " << run_now(out_b) << "\n";
+}
+
+// Where this process' claims say they were made (ClaimOwner::this_process in results/store.cpp).
+std::string claim_host() {
+  char name[256] = {};
+  gethostname(name, sizeof name - 1);
+  std::string host = name;
+  std::error_code error;
+  const auto ns = fs::read_symlink("/proc/self/ns/pid", error);
+  if (!error) host += " " + ns.string();
+  return host;
+}
+
+std::string process_start_of(pid_t pid) {
+  const std::string stat = read_text("/proc/" + std::to_string(pid) + "/stat");
+  std::istringstream rest(stat.substr(stat.rfind(')') + 2));
+  std::string field;
+  for (int i = 0; i < 20 && rest >> field; ++i) {
+  }
+  return field;  // field 22 of the whole line
+}
+
+TEST_F(CliTest, ClaimOfAnEndedProcessIsTakenOverAtOnceAndALiveOneIsWaitedFor) {
+  const Result first = hyfal(cooperative_run(1));
+  ASSERT_EQ(first.code, 0) << first;
+  const fs::path db = work() / "db.sqlite";
+  const auto key = sql(db, "SELECT experiment, suite, instance, method, config FROM trials");
+  ASSERT_TRUE(key.ok && key.rows.size() == 1) << key.text;
+  const auto claim = [&](int index, long long pid, const std::string& start, const std::string& token) {
+    std::string values;
+    for (const auto& field : key.rows[0]) {
+      std::string quoted = "'";
+      for (char c : field) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+      values += quoted + "', ";
+    }
+    const auto r = sql(db, "INSERT INTO claims VALUES (" + values + std::to_string(index) + ", '" + claim_host() +
+                               "', " + std::to_string(pid) + ", " + start + ", '" + token +
+                               "', CAST(strftime('%s', 'now') AS REAL))");
+    ASSERT_TRUE(r.ok) << r.text;
+  };
+  // Trial 1: claimed by a process that has ended (its heartbeat is fresh: only the pid tells).
+  const pid_t ended = fork();
+  if (ended == 0) _exit(0);
+  int status = 0;
+  waitpid(ended, &status, 0);
+  claim(1, ended, "0", "ended-owner");
+  // Trial 2: claimed by a live process that ends 3 s from now.
+  const pid_t sleeper = fork();
+  if (sleeper == 0) {
+    execlp("sleep", "sleep", "3", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  claim(2, sleeper, process_start_of(sleeper), "sleeping-owner");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t run = spawn_hyfal(work(), cooperative_run(3), io() / "run.out", io() / "run.err");
+  // While the sleeper lives, its trial is waited for; the ended process' trial is run at once.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_EQ(sql(db, "SELECT group_concat(trial_index) FROM trials WHERE trial_index IN (1, 2)").text, "1\n");
+  EXPECT_EQ(waitpid(run, &status, WNOHANG), 0) << "the run did not wait for the live claim";
+  waitpid(sleeper, &status, 0);
+  const int code = wait_for(run);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string out = read_text(io() / "run.out"), err = read_text(io() / "run.err");
+  ASSERT_EQ(code, 0) << out << err;
+  EXPECT_GE(seconds, 2.5) << "it waited for the live owner";
+  EXPECT_LT(seconds, 30.0) << "an ended owner's claims are stale at once, not after the heartbeat limit";
+  EXPECT_TRUE(contains(thermostat_row(out), "| rrt | 3 | 3 |")) << out;
+  EXPECT_TRUE(contains(out, "3 trials (2 run now)")) << out;
+  EXPECT_EQ(sql(db, "SELECT count(*), count(DISTINCT trial_index) FROM trials").text, "3|3\n");
+  EXPECT_EQ(sql(db, "SELECT count(*) FROM claims").text, "0\n");
+}
+
+TEST_F(CliTest, KillNineOfOneOfTwoRunsLeavesTheOtherToFinish) {
+  const pid_t victim = spawn_hyfal(work(), cooperative_run(60), io() / "victim.out", io() / "victim.err");
+  const pid_t survivor = spawn_hyfal(work(), cooperative_run(60), io() / "survivor.out", io() / "survivor.err");
+  // Kill the victim once a few trials are stored (10-500 ms each: the run lasts seconds).
+  const auto t0 = std::chrono::steady_clock::now();
+  int status = 0;
+  bool victim_exited = false;
+  while (files_with_suffix(work() / "wit", ".json").size() < 6 &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30)) {
+    if (waitpid(victim, &status, WNOHANG) == victim) {
+      victim_exited = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (!victim_exited) {
+    kill(victim, SIGKILL);
+    waitpid(victim, &status, 0);
+  }
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+      << "the victim must still run when killed\n" << read_text(io() / "victim.err");
+  const int code = wait_for(survivor, 120);
+  const std::string out = read_text(io() / "survivor.out");
+  ASSERT_EQ(code, 0) << out << read_text(io() / "survivor.err");
+  EXPECT_TRUE(contains(thermostat_row(out), "| rrt | 60 | 60 |")) << out;
+  const fs::path db = work() / "db.sqlite";
+  EXPECT_EQ(sql(db, "SELECT count(*), count(DISTINCT trial_index), min(trial_index), max(trial_index) FROM trials")
+                .text,
+            "60|60|0|59\n");
+  EXPECT_EQ(sql(db, "SELECT count(*) FROM claims").text, "0\n");
+  EXPECT_EQ(sql(db, "PRAGMA integrity_check").text, "ok\n");
+  EXPECT_EQ(files_with_suffix(work() / "wit", ".json").size(), 60u);
+  EXPECT_TRUE(files_with_suffix(work() / "wit", ".tmp").empty());
+}
 
 // ---------------------------------------------------------------------------------------------
-// 7. validate on hostile witnesses (issue 11, items 1, 3, 10, 12). Bad input — the file cannot
+// 8. Environment failures (exit 3) and databases that are not hyfal's (exit 2, left unchanged).
+
+bool lexists(const fs::path& p) {
+  std::error_code error;
+  return fs::exists(fs::symlink_status(p, error));
+}
+
+TEST_F(CliTest, DiskFullWitnessExitsThreeAndTheRerunResumes) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  // Where trial 0's witness goes (the same relative path in any witness folder).
+  const fs::path probe = make_witness();
+  ASSERT_FALSE(probe.empty());
+  // WITNESS_DIR/EXPERIMENT/SUITE/METHOD/FILE: relative to the witness folder.
+  const fs::path relative = fs::relative(probe, probe.parent_path().parent_path().parent_path().parent_path());
+  const fs::path witness = work() / "wit" / relative;
+  fs::create_directories(witness.parent_path());
+  const fs::path tmp = witness.string() + ".tmp";
+  fs::create_symlink("/dev/full", tmp);  // writing it fails with ENOSPC, as on a full disk
+
+  const Result r = hyfal(cooperative_run(3));
+  EXPECT_EQ(r.code, 3) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_TRUE(contains(r.err, "No space left on device")) << r;
+  EXPECT_TRUE(r.out.empty()) << r;
+  EXPECT_FALSE(lexists(tmp)) << "the temporary file is removed";
+  EXPECT_FALSE(fs::exists(witness));
+  const fs::path db = work() / "db.sqlite";
+  EXPECT_EQ(sql(db, "SELECT count(*) FROM trials WHERE trial_index = 0").text, "0\n") << "the failed trial is not stored";
+  EXPECT_EQ(sql(db, "SELECT count(*) FROM claims").text, "0\n") << "its claim is released";
+
+  const Result rerun = hyfal(cooperative_run(3));
+  ASSERT_EQ(rerun.code, 0) << rerun;
+  EXPECT_TRUE(contains(thermostat_row(rerun.out), "| rrt | 3 | 3 |")) << rerun;
+  EXPECT_EQ(read_text(witness), read_text(probe));
+}
+
+TEST_F(CliTest, LockedDatabaseExitsThreeWhileTableReadsAtOnce) {
+  const Result first = hyfal(cooperative_run(2));
+  ASSERT_EQ(first.code, 0) << first;
+  // Another program holds the write lock (with an uncommitted change) for 8 s.
+  const pid_t holder = fork();
+  if (holder == 0) {
+    if (chdir(work().c_str()) != 0) _exit(126);
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    execlp("sh", "sh", "-c",
+           "(echo \"BEGIN IMMEDIATE; DELETE FROM trials;\"; sleep 8; echo 'ROLLBACK;') | sqlite3 db.sqlite",
+           static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result table = hyfal({"table", "--db", "db.sqlite"});
+  const double table_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(table.code, 0) << table;
+  EXPECT_TRUE(contains(thermostat_row(table.out), "| rrt | 2 | 2 |")) << "the reader sees the last commit\n" << table;
+  EXPECT_LT(table_s, 3.0) << "the reader waited for the writer";
+
+  const Result run = hyfal(cooperative_run(4));
+  EXPECT_EQ(run.code, 3) << run;
+  EXPECT_EQ(lines(run.err).size(), 1u) << run;
+  EXPECT_TRUE(contains(run.err, "locked")) << run;
+  int status = 0;
+  waitpid(holder, &status, 0);
+  EXPECT_EQ(sql(work() / "db.sqlite", "SELECT count(*) FROM trials").text, "2\n");
+}
+
+TEST_F(CliTest, ForeignDatabasesAreRefusedAndLeftUnchanged) {
+  struct Foreign {
+    const char* name;
+    const char* sql;
+  };
+  const Foreign cases[] = {
+      {"unrelated.db", "CREATE TABLE people (name TEXT); INSERT INTO people VALUES ('ada');"},
+      {"unrelated-wal.db", "PRAGMA journal_mode = WAL; CREATE TABLE people (name TEXT);"},
+      {"version2.db", "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES ('schema_version', '2');"},
+      {"other-trials.db", "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES "
+                          "('schema_version', '1'); CREATE TABLE trials (id INTEGER, name TEXT); "
+                          "CREATE TABLE series (trial_id, name, x, y);"},
+  };
+  for (const Foreign& c : cases) {
+    SCOPED_TRACE(c.name);
+    ASSERT_TRUE(sql(work() / c.name, c.sql).ok);
+    const auto before = snapshot(work());
+    const std::string bytes = read_text(work() / c.name);
+    for (const Args& args : {Args{"run", "--suite", "thermostat", "--trials", "2", "--threads", "1", "--db", c.name,
+                                  "--witness-dir", "wit"},
+                             Args{"table", "--db", c.name}}) {
+      const Result r = hyfal(args);
+      EXPECT_EQ(r.code, 2) << r;
+      EXPECT_EQ(lines(r.err).size(), 1u) << r;
+      EXPECT_TRUE(contains(r.err, c.name)) << r;
+      EXPECT_TRUE(contains(r.err, "is not a hyfal results database") || contains(r.err, "schema version 2")) << r;
+      EXPECT_EQ(read_text(work() / c.name), bytes) << "the file was changed";
+      EXPECT_EQ(snapshot(work()), before) << "a file was created or removed";
+    }
+  }
+  // --db '' is a bad input too, not a temporary database.
+  const auto before = snapshot(work());
+  const Result empty = hyfal({"run", "--suite", "thermostat", "--trials", "1", "--db", "", "--witness-dir", "wit"});
+  EXPECT_EQ(empty.code, 2) << empty;
+  EXPECT_EQ(lines(empty.err).size(), 1u) << empty;
+  EXPECT_EQ(snapshot(work()), before);
+}
+
+TEST_F(CliTest, TableReadsADatabaseInAReadOnlyFolder) {
+  const fs::path folder = work() / "ro";
+  fs::create_directories(folder);
+  const Result first = run_hyfal(folder, io(), cooperative_run(2));
+  ASSERT_EQ(first.code, 0) << first;
+  const auto before = snapshot(folder);
+  // chattr +i: unwritable even for root (CI runs as root, where chmod does not bite).
+  if (std::system(("chattr +i " + quote(folder.string()) + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "chattr +i is not available here";
+  const Result table = hyfal({"table", "--db", "ro/db.sqlite"});
+  const auto after = snapshot(folder);
+  [[maybe_unused]] const int rc = std::system(("chattr -i " + quote(folder.string())).c_str());
+  EXPECT_EQ(table.code, 0) << table;
+  EXPECT_TRUE(contains(thermostat_row(table.out), "| rrt | 2 | 2 |")) << table;
+  EXPECT_EQ(after, before);
+}
+
+}  // namespace
+
+namespace {
+
+// A table output that cannot be written (a full disk: the temporary file is /dev/full) is an
+// environment failure, exit 3, with no temporary file left; a bad -o folder stays exit 2.
+TEST_F(CliTest, TableOutputOnAFullDiskExitsThree) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const Result run = hyfal({"run", "--suite", "thermostat", "--trials", "2", "--threads", "1", "--db", "db.sqlite",
+                            "--witness-dir", "wit", "--quiet"});
+  ASSERT_EQ(run.code, 0) << run;
+  fs::create_symlink("/dev/full", work() / "table.md.tmp");
+  const Result r = hyfal({"table", "--db", "db.sqlite", "-o", "table.md"});
+  EXPECT_EQ(r.code, 3) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_TRUE(contains(r.err, "No space left on device")) << r;
+  EXPECT_FALSE(fs::is_symlink(work() / "table.md.tmp")) << "the temporary file is removed";
+  EXPECT_FALSE(fs::exists(work() / "table.md"));
+  const Result ok = hyfal({"table", "--db", "db.sqlite", "-o", "table.md"});
+  EXPECT_EQ(ok.code, 0) << ok;
+  EXPECT_TRUE(contains(read_text(work() / "table.md"), "| thermostat |"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 9. validate on hostile witnesses (issue 11, items 1, 3, 10, 12). Bad input — the file cannot
 // be read, is not JSON, has a number out of its field's range, or names a mode or transition the
 // system does not have — exits 2 with one line on stderr. A well-formed witness that is not a
 // valid execution (a piece longer than δt) exits 1 with one INVALID line. Every case ends

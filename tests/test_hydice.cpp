@@ -126,7 +126,7 @@ TEST(HydiceLead, RandomPathsAreValidAndTakeBothWays) {
 }
 
 TEST(HydiceWeights, Formulas) {
-  const HydiceExponents unit{};
+  const HydiceExponents unit{1.0, 1.0, 1.0};
   EXPECT_DOUBLE_EQ(hydice_lead_weight(unit, 0.25, 4.0, 2.0), 0.5);          // vol cov / t
   EXPECT_DOUBLE_EQ(hydice_selection_weight(unit, 0.25, 4.0, 2.0), 0.03125);  // vol / (t cov)
   const HydiceExponents e{2.0, 0.5, 3.0};

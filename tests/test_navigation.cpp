@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -432,6 +433,101 @@ TEST(NavigationDrivers, AlwaysInsideTheInputBox) {
           }
         }
     }
+}
+
+// A velocity one rounding error beyond its bound (the invariant tolerates it; RK4 stores
+// ω = 1.0000000000000007 ω_max after 2 s of full steering on SUni) is still the top band of
+// Student and Highway, not Random.
+TEST(NavigationDrivers, AStateOneUlpBeyondTheBoundKeepsTheDriversBand) {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (NavDriver d : {NavDriver::student, NavDriver::highway})
+    for (NavVehicle v : {NavVehicle::scar, NavVehicle::suni, NavVehicle::sddrive}) {
+      const NavVehicleLimits l = navigation_limits(v);
+      for (double sign : {1.0, -1.0}) {
+        const std::vector<double> at = {0.0, 0.0, 0.0, sign * l.a_max, sign * l.b_max};
+        std::vector<double> beyond = at;
+        beyond[3] = std::nextafter(at[3], sign * inf);
+        beyond[4] = std::nextafter(at[4], sign * inf);
+        std::vector<double> rounded = at;  // the value seen in a stored tree node
+        rounded[4] = sign * l.b_max * 1.0000000000000007;
+        const DriverInterval want = navigation_driver_interval(d, v, at);
+        const DriverInterval random = navigation_driver_interval(NavDriver::random, v, at);
+        for (const auto& x : {beyond, rounded}) {
+          const DriverInterval got = navigation_driver_interval(d, v, x);
+          const std::string what = std::string(navigation_driver_name(d)) + " " + std::string(navigation_vehicle_name(v)) +
+                                   (sign > 0 ? " +" : " -");
+          EXPECT_EQ(got.lo, want.lo) << what;
+          EXPECT_EQ(got.hi, want.hi) << what;
+        }
+        // At the bound the driver forbids part of U (it brakes), so the two differ.
+        EXPECT_TRUE(want.lo != random.lo || want.hi != random.hi) << navigation_vehicle_name(v);
+      }
+    }
+  // A NaN velocity is in no band: Random, never an inverted interval.
+  const DriverInterval nan = navigation_driver_interval(NavDriver::student, NavVehicle::suni,
+                                                        std::vector<double>{0.0, 0.0, 0.0, std::nan(""), 0.0});
+  EXPECT_LE(nan.lo[0], nan.hi[0]);
+}
+
+// The validator judges u by the driver at each piece's recorded x_start: a witness whose
+// second piece starts with ω one ulp above ω_max on SUni and keeps steering (u1 = 0, which
+// Random allows, Student and Highway do not: their top band brakes) is rejected.
+TEST(NavigationDrivers, WitnessWithAnInputOutsideTheDriversBandAtTheBoundIsRejected) {
+  // A property whose start terrain is SUni.
+  const NavigationInstance maze = NavigationInstance::generate(4, 1, 1.0);
+  int property = -1;
+  for (int i = 0; i < NavigationInstance::kProperties && property < 0; ++i)
+    if (maze.vehicle(maze.properties()[i].start) == NavVehicle::suni) property = i;
+  ASSERT_GE(property, 0);
+  const NavVehicleLimits l = navigation_limits(NavVehicle::suni);
+  for (const char* driver : {"student", "highway"}) {
+    auto sys = make({{"n", "4"}, {"seed", "1"}, {"property", std::to_string(property)}, {"driver", driver}});
+    const SystemInfo& info = sys->info();
+    auto prop = sys->make_propagator();
+    // Piece 0: at rest, full steering until ω reaches ω_max (SUni's u1 is ω').
+    TrajectoryPiece p0;
+    p0.mode = info.initial_mode;
+    p0.u = {0.0, l.u1_max};
+    p0.duration = l.b_max / l.u1_max;
+    p0.x_start = info.initial_state;
+    p0.x_end.resize(5);
+    prop->flow(p0.mode, p0.x_start, p0.u, {}, p0.duration, p0.x_end);
+    ASSERT_NEAR(p0.x_end[4], l.b_max, 1e-12);
+    // Piece 1 starts one ulp beyond the bound, then keeps ω (u1 = 0) or brakes (u1 = -max).
+    TrajectoryPiece p1;
+    p1.mode = info.initial_mode;
+    p1.x_start = p0.x_end;
+    p1.x_start[4] = std::nextafter(l.b_max, 2.0 * l.b_max);
+    p1.duration = 0.5;
+    std::vector<double> lo(2), hi(2);
+    sys->input_bounds(p1.mode, p1.x_start, lo, hi);
+    // Student's band (0.2, 1] and Highway's b = 1 band: [-max, (0.2 - 1) max], not Random's [-max, max].
+    EXPECT_EQ(lo[1], -l.u1_max) << driver;
+    EXPECT_DOUBLE_EQ(hi[1], -0.8 * l.u1_max) << driver;
+    auto witness_with = [&](double u1) {
+      TrajectoryPiece q1 = p1;
+      q1.u = {0.0, u1};
+      q1.x_end.resize(5);
+      prop->flow(q1.mode, q1.x_start, q1.u, {}, q1.duration, q1.x_end);
+      Trajectory t;
+      t.initial_mode = info.initial_mode;
+      t.initial_x = info.initial_state;
+      t.pieces = {p0, q1};
+      t.final_mode = q1.mode;
+      t.final_x = q1.x_end;
+      t.final_spec = sys->spec(t.final_mode, t.final_x, {});
+      return make_witness(*sys, "test", 0, std::move(t));
+    };
+    const ValidationReport keep = validate_witness(*sys, witness_with(0.0));
+    EXPECT_FALSE(keep.valid) << driver;
+    EXPECT_NE(keep.reason.find("piece 1: input 1 = 0 is outside the admissible"), std::string::npos)
+        << driver << ": " << keep.reason;
+    // Braking passes the input check (the witness is still invalid: it does not reach the unsafe
+    // terrain, which is what the validator says last).
+    const ValidationReport brake = validate_witness(*sys, witness_with(-l.u1_max));
+    EXPECT_FALSE(brake.valid);
+    EXPECT_EQ(brake.reason.find("admissible"), std::string::npos) << driver << ": " << brake.reason;
+  }
 }
 
 // --- parameters and export -------------------------------------------------------------------

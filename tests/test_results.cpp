@@ -2,12 +2,17 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -91,9 +96,9 @@ class TrialStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    directory_ = fs::temp_directory_path() /
-                 fmt::format("hyfal_test_results_{}_{}_{}", ::getpid(), test->test_suite_name(),
-                             test->name());
+    std::string name = fmt::format("hyfal_test_results_{}_{}_{}", ::getpid(), test->test_suite_name(), test->name());
+    std::replace(name.begin(), name.end(), '/', '_');  // parameterized tests: Suite/Test/Param
+    directory_ = fs::temp_directory_path() / name;
     fs::remove_all(directory_);
     fs::create_directories(directory_);
   }
@@ -294,20 +299,27 @@ TEST_F(TrialStoreTest, TextFileIsNotADatabase) {
     FAIL() << "opening a text file did not throw";
   } catch (const StoreError& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("cannot open results database '" + path + "'"), std::string::npos)
+    EXPECT_NE(message.find("'" + path + "' is not a hyfal results database"), std::string::npos)
         << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+    EXPECT_EQ(error.kind(), StoreErrorKind::bad_input);
   }
 }
 
 TEST_F(TrialStoreTest, DirectoryIsNotADatabase) {
   const std::string path = (directory_ / "a_directory").string();
   fs::create_directories(path);
-  try {
-    TrialStore::open(path);
-    FAIL() << "opening a directory did not throw";
-  } catch (const StoreError& error) {
-    EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+  for (const bool read_only : {false, true}) {
+    try {
+      if (read_only)
+        TrialStore::open_read_only(path);
+      else
+        TrialStore::open(path);
+      FAIL() << "opening a directory did not throw";
+    } catch (const StoreError& error) {
+      EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+      EXPECT_EQ(error.kind(), StoreErrorKind::bad_input);
+    }
   }
 }
 
@@ -329,6 +341,367 @@ TEST_F(TrialStoreTest, StoresSeriesOfATrial) {
   // A series of a trial that does not exist is refused, and none of its points is kept.
   EXPECT_THROW(store.insert_series(trial_id + 1000, "coverage", coverage), StoreError);
   EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM series"), "3");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checking before writing (no file that is not a hyfal database is ever changed), read-only
+// readers, error kinds.
+
+// Runs SQL through a plain connection of its own (read-write, no hyfal involved).
+void exec_sql(const std::string& path, const std::string& sql) {
+  sqlite3* connection = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path.c_str(), &connection, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr),
+            SQLITE_OK);
+  char* error = nullptr;
+  const int rc = sqlite3_exec(connection, sql.c_str(), nullptr, nullptr, &error);
+  const std::string message = error ? error : "";
+  sqlite3_free(error);
+  sqlite3_close(connection);
+  ASSERT_EQ(rc, SQLITE_OK) << message << "\n" << sql;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The SQLite side files of path that exist.
+std::vector<std::string> side_files(const std::string& path) {
+  std::vector<std::string> found;
+  for (const char* suffix : {"-wal", "-shm", "-journal"})
+    if (fs::exists(path + suffix)) found.push_back(path + suffix);
+  return found;
+}
+
+struct ForeignFile {
+  const char* name;
+  const char* sql;       // run on a new database; nullptr: text is written instead
+  const char* text;
+  const char* message;   // a part of the error
+};
+
+class ForeignFileTest : public TrialStoreTest, public ::testing::WithParamInterface<ForeignFile> {};
+
+TEST_P(ForeignFileTest, IsRefusedAsBadInputAndLeftByteIdentical) {
+  const ForeignFile& file = GetParam();
+  const std::string path = (directory_ / "foreign.db").string();
+  if (file.sql) {
+    exec_sql(path, file.sql);
+    ASSERT_FALSE(HasFailure());
+  } else {
+    std::ofstream(path, std::ios::binary) << file.text;
+  }
+  ASSERT_TRUE(side_files(path).empty());
+  const std::string before = file_bytes(path);
+  for (const bool read_only : {false, true}) {
+    SCOPED_TRACE(read_only ? "open_read_only" : "open");
+    try {
+      if (read_only)
+        TrialStore::open_read_only(path);
+      else
+        TrialStore::open(path);
+      ADD_FAILURE() << "opened";
+    } catch (const StoreError& error) {
+      EXPECT_EQ(error.kind(), StoreErrorKind::bad_input) << error.what();
+      EXPECT_NE(std::string(error.what()).find(file.message), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+    }
+    EXPECT_EQ(file_bytes(path), before) << "the file was changed";
+    EXPECT_TRUE(side_files(path).empty()) << side_files(path).front();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Store, ForeignFileTest,
+    ::testing::Values(
+        ForeignFile{"UnrelatedSqlite", "CREATE TABLE people (name TEXT); INSERT INTO people VALUES ('ada');",
+                    nullptr, "is not a hyfal results database: it has no table 'meta'"},
+        ForeignFile{"UnrelatedSqliteInWalMode",
+                    "PRAGMA journal_mode = WAL; CREATE TABLE people (name TEXT); INSERT INTO people VALUES ('ada');",
+                    nullptr, "is not a hyfal results database: it has no table 'meta'"},
+        ForeignFile{"SchemaVersion2",
+                    "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+                    "INSERT INTO meta VALUES ('schema_version', '2'); CREATE TABLE trials (id INTEGER);",
+                    nullptr, "schema version 2 is not supported by this build (reads 1)"},
+        ForeignFile{"DifferentTrialsTable",
+                    "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+                    "INSERT INTO meta VALUES ('schema_version', '1');"
+                    "CREATE TABLE trials (id INTEGER PRIMARY KEY, name TEXT);"
+                    "CREATE TABLE series (trial_id INTEGER, name TEXT, x REAL, y REAL);",
+                    nullptr, "its table 'trials' has no column"},
+        ForeignFile{"MetaWithoutVersion", "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);",
+                    nullptr, "holds no schema_version"},
+        ForeignFile{"TextFile", nullptr, "name,score\nada,3\n", "it is not a SQLite database"},
+        ForeignFile{"TruncatedHeader", nullptr, "SQLite format", "it is not a SQLite database"}),
+    [](const ::testing::TestParamInfo<ForeignFile>& info) { return std::string(info.param.name); });
+
+TEST_F(TrialStoreTest, EmptyPathIsBadInput) {
+  try {
+    TrialStore::open("");
+    FAIL() << "opened an empty path";
+  } catch (const StoreError& error) {
+    EXPECT_EQ(error.kind(), StoreErrorKind::bad_input);
+  }
+}
+
+TEST_F(TrialStoreTest, EmptyFileAndTablelessDatabaseGetTheSchema) {
+  const std::string empty = (directory_ / "empty.db").string();
+  std::ofstream(empty).close();
+  TrialStore::open(empty).insert(make_record("rrt", 0));
+  EXPECT_EQ(query_text(empty, "SELECT count(*) FROM trials"), "1");
+  // A SQLite database with no table yet (e.g. one another process is creating right now).
+  const std::string tableless = (directory_ / "tableless.db").string();
+  exec_sql(tableless, "PRAGMA user_version = 0");
+  TrialStore::open(tableless).insert(make_record("rrt", 0));
+  EXPECT_EQ(query_text(tableless, "SELECT count(*) FROM trials"), "1");
+  // A reader does not create anything in an empty file.
+  const std::string empty2 = (directory_ / "empty2.db").string();
+  std::ofstream(empty2).close();
+  EXPECT_THROW(TrialStore::open_read_only(empty2), StoreError);
+  EXPECT_EQ(fs::file_size(empty2), 0u);
+}
+
+TEST_F(TrialStoreTest, DatabaseWithoutClaimsTableStillOpens) {
+  { TrialStore::open(database_path()).insert(make_record("rrt", 0)); }
+  exec_sql(database_path(), "DROP TABLE claims");
+  {
+    auto reader = TrialStore::open_read_only(database_path());
+    EXPECT_EQ(reader.load().size(), 1u);
+  }
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM sqlite_master WHERE name = 'claims'"), "0")
+      << "a reader adds nothing";
+  auto writer = TrialStore::open(database_path());
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM sqlite_master WHERE name = 'claims'"), "1");
+  EXPECT_TRUE(writer.claim(make_record("rrt", 1).key, ClaimOwner::this_process()));
+}
+
+TEST_F(TrialStoreTest, ReaderLeavesNoFilesAndTheBytesUnchanged) {
+  { TrialStore::open(database_path()).insert(make_record("rrt", 0)); }
+  ASSERT_TRUE(side_files(database_path()).empty()) << "the writer removes its -wal/-shm at close";
+  const std::string before = file_bytes(database_path());
+  {
+    auto reader = TrialStore::open_read_only(database_path());
+    EXPECT_EQ(reader.load().size(), 1u);
+    EXPECT_EQ(reader.experiments(), (std::vector<std::string>{"exp1"}));
+    EXPECT_THROW(reader.insert(make_record("rrt", 1)), std::logic_error);
+    EXPECT_THROW(reader.claim(make_record("rrt", 1).key, ClaimOwner::this_process()), std::logic_error);
+  }
+  EXPECT_TRUE(side_files(database_path()).empty()) << side_files(database_path()).front();
+  EXPECT_EQ(file_bytes(database_path()), before);
+  // Moving a reader over another closes the latter and cleans up after it as well.
+  {
+    auto first = TrialStore::open_read_only(database_path());
+    auto second = TrialStore::open_read_only(database_path());
+    first = std::move(second);
+    EXPECT_EQ(first.load().size(), 1u);
+  }
+  EXPECT_TRUE(side_files(database_path()).empty());
+}
+
+TEST_F(TrialStoreTest, ReaderIsNotBlockedByAnOpenWriteTransaction) {
+  auto writer = TrialStore::open(database_path());
+  writer.insert(make_record("rrt", 0));
+  writer.insert(make_record("rrt", 1));
+  // A second connection holds the write lock with an uncommitted row.
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(database_path().c_str(), &holder, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(holder,
+                         "BEGIN IMMEDIATE; INSERT INTO meta (key, value) VALUES ('uncommitted', 'x'); "
+                         "DELETE FROM trials WHERE trial_index = 0;",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    auto reader = TrialStore::open_read_only(database_path());
+    EXPECT_EQ(reader.load().size(), 2u) << "the reader sees the last commit";
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 1.0) << "the reader waited for the writer";
+  sqlite3_exec(holder, "ROLLBACK", nullptr, nullptr, nullptr);
+  sqlite3_close(holder);
+}
+
+TEST_F(TrialStoreTest, WriterLockedPastTheBusyTimeoutIsAnEnvironmentError) {
+  auto store = TrialStore::open(database_path());
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(database_path().c_str(), &holder, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(holder, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr), SQLITE_OK);
+  try {
+    store.insert(make_record("rrt", 0));  // waits the 5 s busy timeout
+    ADD_FAILURE() << "inserted past a held write lock";
+  } catch (const StoreError& error) {
+    EXPECT_EQ(error.kind(), StoreErrorKind::environment) << error.what();
+    EXPECT_NE(std::string(error.what()).find("locked"), std::string::npos) << error.what();
+  }
+  sqlite3_exec(holder, "ROLLBACK", nullptr, nullptr, nullptr);
+  sqlite3_close(holder);
+  EXPECT_NO_THROW(store.insert(make_record("rrt", 0)));
+}
+
+// chattr +i makes a file or folder unwritable even for root (the tests run as root in CI, where
+// chmod does not bite). Where chattr is not available (no CAP_LINUX_IMMUTABLE, a file system
+// without the attribute) the test is skipped.
+class Immutable {
+ public:
+  explicit Immutable(fs::path path) : path_(std::move(path)) {
+    set_ = std::system(("chattr +i '" + path_.string() + "' 2>/dev/null").c_str()) == 0;
+  }
+  ~Immutable() {
+    if (set_) [[maybe_unused]] const int rc = std::system(("chattr -i '" + path_.string() + "'").c_str());
+  }
+  bool set() const { return set_; }
+
+ private:
+  fs::path path_;
+  bool set_ = false;
+};
+
+TEST_F(TrialStoreTest, ReaderWorksInAReadOnlyFolderAndOnAReadOnlyFile) {
+  const fs::path folder = directory_ / "ro";
+  const std::string path = (folder / "results.db").string();
+  { TrialStore::open(path).insert(make_record("rrt", 0)); }
+  const std::string before = file_bytes(path);
+  {
+    const Immutable lock(folder);
+    if (!lock.set()) GTEST_SKIP() << "chattr +i is not available here";
+    auto reader = TrialStore::open_read_only(path);
+    EXPECT_EQ(reader.load().size(), 1u);
+    // A writer cannot work there: that is the machine's refusal, not a bad path.
+    try {
+      TrialStore::open(path);
+      ADD_FAILURE() << "opened for writing in a read-only folder";
+    } catch (const StoreError& error) {
+      EXPECT_EQ(error.kind(), StoreErrorKind::environment) << error.what();
+    }
+  }
+  EXPECT_TRUE(side_files(path).empty());
+  {
+    const Immutable lock(path);
+    ASSERT_TRUE(lock.set());
+    auto reader = TrialStore::open_read_only(path);
+    EXPECT_EQ(reader.load().size(), 1u);
+  }
+  EXPECT_TRUE(side_files(path).empty()) << side_files(path).front();
+  EXPECT_EQ(file_bytes(path), before);
+}
+
+TEST_F(TrialStoreTest, PermissionLostMidRunIsAnEnvironmentError) {
+  auto store = TrialStore::open(database_path());
+  store.insert(make_record("rrt", 0));
+  ASSERT_TRUE(fs::exists(database_path() + "-wal"));
+  {
+    const Immutable lock(database_path() + "-wal");  // the log the next commit must append to
+    if (!lock.set()) GTEST_SKIP() << "chattr +i is not available here";
+    try {
+      store.insert(make_record("rrt", 1));
+      ADD_FAILURE() << "committed to an unwritable log";
+    } catch (const StoreError& error) {
+      EXPECT_EQ(error.kind(), StoreErrorKind::environment) << error.what();
+    }
+  }
+  EXPECT_NO_THROW(store.insert(make_record("rrt", 1))) << "the store works again once it may write";
+  EXPECT_EQ(store.load().size(), 2u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Claims: several processes on one experiment run each trial once.
+
+// A process id that is not running (a child that has exited and been reaped).
+std::int64_t dead_pid() {
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return child;
+}
+
+ClaimOwner other_owner(const std::string& token) {
+  ClaimOwner owner = ClaimOwner::this_process();  // same host, a live process ...
+  owner.token = token;                            // ... but another owner
+  return owner;
+}
+
+TEST_F(TrialStoreTest, ClaimIsExclusiveUntilTheTrialIsStored) {
+  auto store = TrialStore::open(database_path());
+  const ClaimOwner& self = ClaimOwner::this_process();
+  const ClaimOwner other = other_owner("other-owner");
+  const TrialKey key = make_record("rrt", 0).key;
+  EXPECT_TRUE(store.claim(key, self));
+  EXPECT_TRUE(store.claim(key, self)) << "claiming again is harmless";
+  EXPECT_FALSE(store.claim(key, other)) << "a live owner keeps its claim";
+  EXPECT_EQ(store.progress({key}, other), (std::vector<TrialProgress>{TrialProgress::claimed_by_other}));
+  EXPECT_EQ(store.progress({key}, self), (std::vector<TrialProgress>{TrialProgress::needs_runner}))
+      << "its own leftover claim does not make a process wait";
+  store.insert(make_record("rrt", 0));
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM claims"), "0") << "storing ends the claim";
+  EXPECT_FALSE(store.claim(key, other)) << "a stored trial is not run again";
+  EXPECT_FALSE(store.claim(key, self));
+  EXPECT_EQ(store.progress({key}, other), (std::vector<TrialProgress>{TrialProgress::stored}));
+
+  // A trial stored as an error is retried; once retried (and unclaimed), it counts as done.
+  const TrialKey errored = make_record("rrt", 1).key;
+  store.insert(make_record("rrt", 1, TrialStatus::error));
+  EXPECT_EQ(store.progress({errored}, self), (std::vector<TrialProgress>{TrialProgress::stored_error}));
+  EXPECT_TRUE(store.claim(errored, other));
+  EXPECT_EQ(store.progress({errored}, self), (std::vector<TrialProgress>{TrialProgress::claimed_by_other}));
+  EXPECT_EQ(store.progress({make_record("rrt", 2).key}, self),
+            (std::vector<TrialProgress>{TrialProgress::needs_runner}));
+}
+
+TEST_F(TrialStoreTest, StaleClaimsAreTakenOver) {
+  auto store = TrialStore::open(database_path());
+  const ClaimOwner& self = ClaimOwner::this_process();
+  ASSERT_GT(self.process_start, 0) << "/proc/self/stat is readable on Linux";
+  const auto claim_as = [&](std::int64_t index, ClaimOwner owner) {
+    return store.claim(make_record("rrt", index).key, owner);
+  };
+  // A process on this host that has ended.
+  ClaimOwner dead = other_owner("dead");
+  dead.pid = dead_pid();
+  ASSERT_TRUE(claim_as(0, dead));
+  EXPECT_TRUE(claim_as(0, self)) << "the claim of an ended process is stale at once";
+  // A reused pid: the pid runs, but it is another process (it started at another time).
+  ClaimOwner reused = other_owner("reused");
+  reused.process_start = self.process_start + 12345;
+  ASSERT_TRUE(claim_as(1, reused));
+  EXPECT_TRUE(claim_as(1, self));
+  // A zombie is no longer running either.
+  const pid_t zombie = fork();
+  if (zombie == 0) _exit(0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // exited, not reaped yet
+  ClaimOwner zombie_owner = other_owner("zombie");
+  zombie_owner.pid = zombie;
+  zombie_owner.process_start = 0;
+  ASSERT_TRUE(claim_as(2, zombie_owner));
+  EXPECT_TRUE(claim_as(2, self));
+  int status = 0;
+  waitpid(zombie, &status, 0);
+  // Another host: alive while its heartbeat is fresh, stale after kClaimStaleAfter.
+  ClaimOwner remote = other_owner("remote");
+  remote.host = "another-host";
+  remote.pid = dead_pid();  // says nothing about a process of another host
+  ASSERT_TRUE(claim_as(3, remote));
+  EXPECT_FALSE(claim_as(3, self));
+  exec_sql(database_path(), fmt::format("UPDATE claims SET heartbeat = heartbeat - {} WHERE token = 'remote'",
+                                        kClaimStaleAfter + 1));
+  EXPECT_EQ(store.progress({make_record("rrt", 3).key}, self),
+            (std::vector<TrialProgress>{TrialProgress::needs_runner}));
+  EXPECT_TRUE(claim_as(3, self));
+  EXPECT_EQ(query_text(database_path(), "SELECT group_concat(DISTINCT token) FROM claims"), self.token);
+}
+
+TEST_F(TrialStoreTest, HeartbeatRefreshesAndReleasesClaims) {
+  auto store = TrialStore::open(database_path());
+  ClaimOwner owner = other_owner("beating");
+  for (const std::int64_t index : {0, 1, 2}) ASSERT_TRUE(store.claim(make_record("rrt", index).key, owner));
+  exec_sql(database_path(), "UPDATE claims SET heartbeat = 0");
+  EXPECT_EQ(store.refresh_claims(owner), 3);
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM claims WHERE heartbeat > 1e9"), "3");
+  {
+    const ClaimHeartbeat heartbeat(database_path(), owner);
+  }  // a heartbeat that ends hands its owner's claims over
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM claims"), "0");
+  EXPECT_EQ(store.refresh_claims(owner), 0);
 }
 
 // ---------------------------------------------------------------------------------------------

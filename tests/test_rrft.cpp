@@ -4,8 +4,11 @@
 // terminated by growth and by coverage, the exact node cap, the same outcome at 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -13,6 +16,7 @@
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
 #include "core/system.hpp"
+#include "core/trial_cpu.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
 
@@ -323,6 +327,60 @@ TEST(rrft, TrialEngineValidatesTheWitness) {
   EXPECT_EQ(rec.status, TrialStatus::falsified) << rec.error;
   EXPECT_TRUE(rec.validated);
   EXPECT_FALSE(rec.series.empty());
+}
+
+// --------------------------------------------------------------------- cpu_s over all threads
+
+double process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+void spin_cpu(double seconds) {
+  const std::int64_t t0 = TrialCpuClock::thread_cpu_ns();
+  volatile double sink = 0.0;
+  while (TrialCpuClock::thread_cpu_ns() - t0 < static_cast<std::int64_t>(seconds * 1e9)) sink = sink + 1.0;
+}
+
+TEST(trial_cpu_clock, CountsTaskBodiesOnOtherThreadsOnce) {
+  TrialCpuClock clock;
+  clock.task([] { spin_cpu(0.05); });  // on the owner: already in its own delta
+  EXPECT_EQ(clock.helper_seconds(), 0.0);
+  std::thread helper([&] { clock.task([] { spin_cpu(0.1); }); });
+  helper.join();
+  EXPECT_GE(clock.helper_seconds(), 0.1);
+  EXPECT_LT(clock.helper_seconds(), 0.5);
+  EXPECT_GE(clock.seconds(), 0.15);  // the owner's 0.05 s plus the helper's 0.1 s
+}
+
+// RRFT grows its trees as tasks on the arena's threads: the trial's cpu_s must count all of
+// them, i.e. come close to what the whole process spent while the trial ran alone (the thread
+// that ran the trial alone did about half of it on two threads).
+TEST(rrft, CpuTimeCountsEveryThreadThatGrewTheForest) {
+  const SuiteEntry* s = find_suite("blimp");
+  auto sys = s->make(resolve_options(s->parameters, {}));
+  ASSERT_GE(sys->info().parameter_box.dim(), 1u);  // a searched P: n_t = 4 trees per round
+  TrialJob job;
+  job.key = {"test", "blimp", sys->info().instance.dump(), "rrft", "{}", 0};
+  job.system = sys;
+  job.method = find_method("rrft");
+  job.method_options = rrft_options();
+  job.limits = {1.5, 100'000'000};  // the blimp needs ~70,000 nodes: the time limit ends it
+  job.seed = 3;
+  TrialRecord rec;
+  tbb::task_arena arena(2);
+  double process = 0.0;
+  arena.execute([&] {
+    const double cpu0 = process_cpu_seconds();
+    rec = run_trial(job, EngineOptions{});
+    process = process_cpu_seconds() - cpu0;
+  });
+  ASSERT_EQ(rec.status, TrialStatus::timeout) << rec.error;
+  EXPECT_GE(rec.cpu_s, 0.8 * process) << "cpu_s " << rec.cpu_s << " s, process " << process << " s";
+  EXPECT_LE(rec.cpu_s, 1.02 * process + 0.02) << "cpu_s " << rec.cpu_s << " s, process " << process << " s";
+  std::printf("[rrft] 2 threads, 1.5 s: cpu_s %.3f s, process CPU %.3f s, wall %.3f s\n", rec.cpu_s, process, rec.wall_s);
 }
 
 TEST(rrft, RejectsBadOptions) {

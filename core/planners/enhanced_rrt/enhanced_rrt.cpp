@@ -47,19 +47,20 @@ enum class Selection { metric, t2go };
 enum class History { none, tree, knn };
 enum class Sampling { uniform, medium, heavy, adaptive };
 
+// Defaults and ranges are declared once, in enhanced_rrt_method(); parse_options fills every field.
 struct EnhancedOptions {
-  Selection selection = Selection::metric;
-  History history = History::none;
-  Sampling sampling = Sampling::uniform;
-  int k = 10;
-  double sigma_min = 0.05, sigma_max = 0.5;
-  int n_s = 50;
-  int coverage_window = 0;
-  double delta_c_min = 1e-4;
-  std::int64_t coverage_at = 5000;
-  int series_every = 100;
-  bool record_failed_extensions = false;
-  bool t2go_inputs = true;
+  Selection selection;
+  History history;
+  Sampling sampling;
+  int k;
+  double sigma_min, sigma_max;
+  int n_s;
+  int coverage_window;
+  double delta_c_min;
+  std::int64_t coverage_at;
+  int series_every;
+  bool record_failed_extensions;
+  bool t2go_inputs;
 };
 
 template <class E>
@@ -73,7 +74,7 @@ E parse_choice(const Json& o, const char* key, std::initializer_list<std::pair<c
 }
 
 EnhancedOptions parse_options(const Json& o) {
-  EnhancedOptions e;
+  EnhancedOptions e{};
   e.selection = parse_choice<Selection>(o, "selection", {{"metric", Selection::metric}, {"t2go", Selection::t2go}});
   e.history = parse_choice<History>(o, "history", {{"none", History::none}, {"tree", History::tree}, {"knn", History::knn}});
   e.sampling = parse_choice<Sampling>(o, "sampling", {{"uniform", Sampling::uniform}, {"medium", Sampling::medium},
@@ -88,13 +89,17 @@ EnhancedOptions parse_options(const Json& o) {
   e.series_every = o.at("series_every").get<int>();
   e.record_failed_extensions = o.at("record_failed_extensions").get<bool>();
   e.t2go_inputs = o.at("t2go_inputs").get<bool>();
-  if (e.k < 1) throw std::invalid_argument("enhanced-rrt: k must be >= 1");
-  if (!(e.sigma_min > 0.0) || !(e.sigma_max >= e.sigma_min))
-    throw std::invalid_argument("enhanced-rrt: need 0 < sigma_min <= sigma_max");
-  if (e.n_s < 1) throw std::invalid_argument("enhanced-rrt: n_s must be >= 1");
-  if (e.coverage_window < 0) throw std::invalid_argument("enhanced-rrt: coverage_window must be >= 0");
-  if (e.series_every < 1) throw std::invalid_argument("enhanced-rrt: series_every must be >= 1");
+  // Single values are checked against their declared ranges (enhanced_rrt_method()); relations here.
+  if (!(e.sigma_max >= e.sigma_min)) throw std::invalid_argument("enhanced-rrt: need sigma_min <= sigma_max");
   return e;
+}
+
+// The biased samplers (III.6) draw around the suite's goal point µ.
+void check_enhanced_system(const System& sys, const EnhancedOptions& o) {
+  const SystemInfo& info = sys.info();
+  if (o.sampling != Sampling::uniform && info.goal_point.size() != info.dim())
+    throw std::invalid_argument(fmt::format("sampling={} needs the suite's goal point, which suite '{}' does not declare",
+                                            o.sampling == Sampling::adaptive ? "adaptive" : "biased", info.suite));
 }
 
 // One tree of the forest, with the per-node bookkeeping the enhancements need.
@@ -128,8 +133,7 @@ class EnhancedRrt final : public Planner {
     InputGrid U(sys);  // Ū at x_near (admissible inputs of a driver model)
 
     const bool biased = o_.sampling != Sampling::uniform;
-    if (biased && info.goal_point.size() != n)
-      throw std::invalid_argument(fmt::format("enhanced-rrt: sampling={} needs the suite's goal point", sampling_name()));
+    check_enhanced_system(sys, o_);
     const BiasedSampler biased_sampler(info.sampling_box, info.goal_point, o_.sigma_min, o_.sigma_max);
     AdaptiveBias adaptive(o_.n_s);
     std::vector<std::uniform_real_distribution<double>> uniform;
@@ -426,20 +430,21 @@ MethodEntry enhanced_rrt_method() {
   return {"enhanced-rrt",
           "enhanced RRT of seed 000 (Alg. 3-4): t2go selection, history weighting, adaptive bias, "
           "coverage stop; every option off = baseline RRT",
-          {{"selection", "metric", "x_near and u_new by the metric (metric) or time-to-go (t2go, III.2)"},
-           {"k", 10, "candidates (nearest by the metric) for t2go and history=knn"},
-           {"history", "none", "history weighting H (III.3): none, tree (whole tree) or knn (k nearest)"},
-           {"sampling", "uniform", "x_rand: uniform, medium (β=0.5), heavy (β=1) or adaptive (III.5-7)"},
-           {"sigma_min", 0.05, "σ_min of (III.7), as a fraction of the sampling-box width"},
-           {"sigma_max", 0.5, "σ_max of (III.7), as a fraction of the sampling-box width"},
-           {"n_s", 50, "N_s: iterations between β updates (III.5)"},
-           {"coverage_window", 0, "N of the secondary stop: stop when c gains < delta_c_min over N nodes (0: off)"},
-           {"delta_c_min", 1e-4, "Δc_min of the secondary stop"},
-           {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded"},
-           {"series_every", 100, "nodes between points of the coverage series"},
+          {{"selection", "metric", "x_near and u_new by the metric (metric) or time-to-go (t2go, III.2)", "metric|t2go"},
+           {"k", 10, "candidates (nearest by the metric) for t2go and history=knn", "[1, 1000]"},
+           {"history", "none", "history weighting H (III.3): none, tree (whole tree) or knn (k nearest)", "none|tree|knn"},
+           {"sampling", "uniform", "x_rand: uniform, medium (β=0.5), heavy (β=1) or adaptive (III.5-7)", "uniform|medium|heavy|adaptive"},
+           {"sigma_min", 0.05, "σ_min of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
+           {"sigma_max", 0.5, "σ_max of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
+           {"n_s", 50, "N_s: iterations between β updates (III.5)", "[1, 1000000]"},
+           {"coverage_window", 0, "N of the secondary stop: stop when c gains < delta_c_min over N nodes (0: off)", "[0, 100000000]"},
+           {"delta_c_min", 1e-4, "Δc_min of the secondary stop", "[0, 1]"},
+           {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded", "[1, inf)"},
+           {"series_every", 100, "nodes between points of the coverage series", "[1, 100000000]"},
            {"t2go_inputs", true, "with selection=t2go, also pick u_new by t2go (Alg. 4); false: by the metric"},
            {"record_failed_extensions", false, "store the sorted n_j of the final tree (Fig. 6) as a series"}},
-          [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o)); }};
+          [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o)); },
+          [](const System& sys, const Json& o) { check_enhanced_system(sys, parse_options(o)); }};
 }
 
 }  // namespace hyfal

@@ -234,39 +234,44 @@ namespace {
 // the time.
 constexpr std::int64_t kExpansionsPerPropagation = 50;
 
+// The values come only from the resolved options (their defaults and ranges are declared once, in
+// exponent_options() and hydice_method() below); no default is repeated here.
 struct HydiceOptions {
-  bool leads = true;
-  std::int64_t t_sigma = 100;
-  double shortest_probability = 0.9;
-  double lead_heuristic = 1.0;
-  std::int64_t controls = 1;
-  enum class Inputs { automatic, set, box } inputs = Inputs::automatic;
+  bool leads;
+  std::int64_t t_sigma;
+  double shortest_probability;
+  double lead_heuristic;
+  std::int64_t controls;
+  enum class Inputs { automatic, set, box } inputs;
   HydiceExponents e;
 };
 
+// `o` is resolved against the declared options (core/options.hpp checks types and ranges).
 HydiceOptions parse_options(const Json& o, bool leads) {
-  HydiceOptions h;
+  HydiceOptions h{};
   h.leads = leads;
   h.e.nu = o.at("nu").get<double>();
   h.e.zeta = o.at("zeta").get<double>();
   h.e.tau = o.at("tau").get<double>();
   h.controls = o.at("controls").get<std::int64_t>();
-  if (h.controls < 1 || h.controls > 1024) throw std::invalid_argument("hydice: controls must be in [1, 1024]");
   const std::string inputs = o.at("inputs").get<std::string>();
   if (inputs == "auto") h.inputs = HydiceOptions::Inputs::automatic;
   else if (inputs == "set") h.inputs = HydiceOptions::Inputs::set;
   else if (inputs == "box") h.inputs = HydiceOptions::Inputs::box;
   else throw std::invalid_argument(fmt::format("hydice: inputs must be auto, set or box (got '{}')", inputs));
-  if (leads) {
+  if (leads) {  // HyDICE[NoLeads] has no lead options: t_sigma etc. stay unused
     h.t_sigma = o.at("t_sigma").get<std::int64_t>();
     h.shortest_probability = o.at("shortest_probability").get<double>();
-    if (h.t_sigma < 1) throw std::invalid_argument("hydice: t_sigma must be >= 1");
-    if (!(h.shortest_probability >= 0.0 && h.shortest_probability <= 1.0))
-      throw std::invalid_argument("hydice: shortest_probability must be in [0, 1]");
     h.lead_heuristic = o.at("lead_heuristic").get<double>();
-    if (!(h.lead_heuristic >= 0.0)) throw std::invalid_argument("hydice: lead_heuristic must be >= 0");
   }
   return h;
+}
+
+// HyDICE runs on the suite's region decomposition (seed 002 Sect. 3.2).
+void check_hydice_system(const System& sys, const Json&) {
+  if (!sys.decomposition())
+    throw std::invalid_argument(fmt::format("suite '{}' provides no region decomposition, which HyDICE needs",
+                                            sys.info().suite));
 }
 
 struct CellKey {
@@ -300,8 +305,8 @@ class Hydice final : public Planner {
   PlannerOutcome solve(const PlannerContext& ctx) override {
     const System& sys = ctx.system;
     const SystemInfo& info = sys.info();
+    check_hydice_system(sys, Json());
     const Decomposition* dec = sys.decomposition();
-    if (!dec) throw std::invalid_argument(fmt::format("hydice: suite {} provides no decomposition", info.suite));
     const std::size_t n = info.dim(), m = info.input_names.size();
     const std::span<const double> p = ctx.parameters;
     PlannerOutcome out;
@@ -501,29 +506,31 @@ class Hydice final : public Planner {
 };
 
 std::vector<OptionSpec> exponent_options() {
-  return {{"controls", 1, "inputs drawn per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)"},
-          {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (as the suite declares: box for navigation's drivers, set otherwise)"},
-          {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)"},
-          {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)"},
-          {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)"}};
+  return {{"controls", 1, "inputs drawn per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)", "[1, 1024]"},
+          {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (as the suite declares: box for navigation's drivers, set otherwise)", "auto|set|box"},
+          {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)", "[0, 10]"},
+          {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)", "[0, 10]"},
+          {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)", "[0, 10]"}};
 }
 
 }  // namespace
 
 MethodEntry hydice_method() {
   auto options = exponent_options();
-  options.push_back({"t_sigma", 100, "t_σ: propagations per lead (motion-planning step)"});
-  options.push_back({"shortest_probability", 0.9, "probability that a lead is the shortest path (else a random path)"});
-  options.push_back({"lead_heuristic", 1.0, "A* weight on hops_to_unsafe x (cost of an unreached edge); 0 = Dijkstra"});
+  options.push_back({"t_sigma", 100, "t_σ: propagations per lead (motion-planning step)", "[1, 100000000]"});
+  options.push_back({"shortest_probability", 0.9, "probability that a lead is the shortest path (else a random path)", "[0, 1]"});
+  options.push_back({"lead_heuristic", 1.0, "A* weight on hops_to_unsafe x (cost of an unreached edge); 0 = Dijkstra", "[0, 100]"});
   return {"hydice",
           "HyDICE of seed 002 (Alg. 2): leads over the suite's region decomposition guide the motion planner",
-          std::move(options), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, true)); }};
+          std::move(options), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, true)); },
+          check_hydice_system};
 }
 
 MethodEntry hydice_noleads_method() {
   return {"hydice-noleads",
           "HyDICE[NoLeads] of seed 002 Sect. 4: HyDICE's motion planner over every reached region, no discrete search",
-          exponent_options(), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, false)); }};
+          exponent_options(), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, false)); },
+          check_hydice_system};
 }
 
 }  // namespace hyfal

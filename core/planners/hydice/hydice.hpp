@@ -13,9 +13,10 @@
 
 namespace hyfal {
 
-// Normalization exponents of the region weights (Sect. 3.2.3, 3.3.1).
+// Normalization exponents of the region weights (Sect. 3.2.3, 3.3.1). No defaults here: the
+// method's declared options (hydice.cpp, exponent_options) are the one source of them.
 struct HydiceExponents {
-  double nu = 1.0, zeta = 1.0, tau = 1.0;
+  double nu, zeta, tau;
 };
 
 // w_i(q) = vol^ν cov^ζ / t^τ (lead weight, Sect. 3.2.3).

@@ -7,10 +7,11 @@
 // 0-dimensional P (or one with no axis of non-zero width) gives a single tree with the suite's
 // parameters: there is nothing to search, µ(P̄) = 0.
 //
-// Extension. Each extension is the baseline RRT step of core/planners/rrt/rrt_loop.hpp (x_rand
-// uniform over the sampling box, nearest node by the metric, the input of Ū whose propagation
-// over δt ends nearest x_rand; an extension where no input makes progress adds nothing), with
-// the tree's own random stream, seeded from (trial seed, seed index) only.
+// Extension. x_rand uniform over the sampling box from the tree's own random stream, seeded from
+// (trial seed, seed index) only; then the one RRT extension step of
+// core/planners/rrt/rrt_extension.hpp, the same as rrt's (nearest node by the metric, the input
+// of Ū(x_near) — Ū mapped onto the admissible box at x_near — whose propagation over δt ends
+// nearest x_rand; an extension where no input makes progress adds nothing).
 //
 // Rounds (determinism at any thread count). The active trees are advanced in rounds: each gets
 // K extension attempts per round, as one oneTBB task (tbb::parallel_for inside an isolated
@@ -22,7 +23,9 @@
 // it), so the forest never holds more than max_nodes nodes. The coordinating thread publishes a
 // round with a release store that each task acquires, and each task ends with an acq_rel
 // increment that the coordinator acquires after the join: happens-before edges ThreadSanitizer
-// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it).
+// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it). Each task
+// body runs through the trial's TrialCpuClock, so cpu_s includes the helping threads' CPU; the
+// isolation keeps the trial's thread from running another trial's tasks while it waits.
 //
 // Coverage convention. Each tree has a CoverageGrid on the suite's coverage grid (n_g points,
 // spacing δ). Seed 003's eq. (3) c(T) = 1/(n_g δ) Σ_j min(d_j, δ) FALLS from 1 to 0 as the tree
@@ -67,7 +70,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -78,9 +80,11 @@
 
 #include "core/coverage.hpp"
 #include "core/nearest.hpp"
+#include "core/planners/rrt/rrt_extension.hpp"
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
 #include "core/tree.hpp"
+#include "core/trial_cpu.hpp"
 
 namespace hyfal {
 
@@ -132,6 +136,7 @@ struct ForestTree {
         nodes(sys.info().dim(), sys.info().input_names.size()),
         nn(std::in_place, metric),
         prop(sys.make_propagator()),
+        step(sys, metric),
         rng(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
         grid(std::in_place, sys.info().coverage, sys.info().dim()),
         coverage_series{fmt::format("coverage/tree{}", index_), {}},
@@ -139,8 +144,6 @@ struct ForestTree {
     const SystemInfo& info = sys.info();
     for (std::size_t i = 0; i < info.dim(); ++i) uniform.emplace_back(info.sampling_box.lo[i], info.sampling_box.hi[i]);
     x_rand.resize(info.dim());
-    candidate.resize(info.dim());
-    x_new.resize(info.dim());
   }
 
   std::size_t index;
@@ -148,16 +151,24 @@ struct ForestTree {
   NodeStore nodes;
   std::optional<NearestNeighbors> nn;  // released when the tree ends
   std::unique_ptr<Propagator> prop;
+  RrtExtension step;
   Rng rng;
   std::optional<CoverageGrid> grid;  // released when the tree ends
   std::vector<std::uniform_real_distribution<double>> uniform;
-  std::vector<double> x_rand, candidate, x_new;
+  std::vector<double> x_rand;
   PlannerCounters counters;
   std::int64_t failed_streak = 0;  // consecutive extension attempts that added nothing
   NodeId leaf = kNoNode;           // a node with s <= 0, once found
   TreeEnd end = TreeEnd::active;
   NamedSeries coverage_series, growth_series;
 };
+
+// g(T) and D(T) (seed 003 eq. 3) are measured on the suite's coverage grid.
+void check_rrft_system(const System& sys, const Json&) {
+  if (!(sys.info().coverage.spacing > 0.0))
+    throw std::invalid_argument(fmt::format("suite '{}' defines no coverage grid, which RRFT needs for c(T), g(T)",
+                                            sys.info().suite));
+}
 
 class Rrft final : public Planner {
  public:
@@ -166,8 +177,7 @@ class Rrft final : public Planner {
   PlannerOutcome solve(const PlannerContext& ctx) override {
     const System& sys = ctx.system;
     const SystemInfo& info = sys.info();
-    if (!(info.coverage.spacing > 0.0))
-      throw std::invalid_argument(fmt::format("rrft: suite '{}' defines no coverage grid (needed for c(T), g(T))", info.suite));
+    check_rrft_system(sys, Json());
     PlannerOutcome out;
     const WeightedEuclidean metric(info.metric_weights);
     const SearchBudget budget(ctx);
@@ -269,7 +279,11 @@ class Rrft final : public Planner {
       epoch.store(static_cast<std::uint64_t>(rounds), std::memory_order_release);
       auto run = [&](std::size_t i) {
         (void)epoch.load(std::memory_order_acquire);
-        grow(sys, info, metric, budget, *active[i], quota[i]);
+        auto body = [&] { grow(info, budget, *active[i], quota[i]); };
+        if (ctx.cpu)
+          ctx.cpu->task(body);  // cpu_s counts the threads that helped (isolated: only this trial's tasks)
+        else
+          body();
         finished.fetch_add(1, std::memory_order_acq_rel);
       };
       if (active.size() == 1) {
@@ -343,50 +357,21 @@ class Rrft final : public Planner {
   }
 
  private:
-  // Up to K extension attempts of one tree (the RRT step of rrt_loop.hpp), at most `quota`
+  // Up to K extension attempts of one tree (the RRT step of rrt_extension.hpp), at most `quota`
   // nodes added; stops early when the tree reaches s <= 0 or the time is up.
-  void grow(const System& sys, const SystemInfo& info, const WeightedEuclidean& metric, const SearchBudget& budget,
-            ForestTree& t, std::int64_t quota) const {
+  void grow(const SystemInfo& info, const SearchBudget& budget, ForestTree& t, std::int64_t quota) const {
     const std::size_t n = info.dim();
-    const std::span<const double> p = t.p;
     std::int64_t added = 0;
     for (int a = 0; a < o_.K && added < quota && t.leaf == kNoNode; ++a) {
       if (budget.exhausted(0)) return;  // time or cancellation (the node cap is the quota's)
       for (std::size_t i = 0; i < n; ++i) t.x_rand[i] = t.uniform[i](t.rng);
-      const NodeId near = t.nn->nearest(t.x_rand).id;
-      NodeInfo& near_info = t.nodes.info(near);
-      ++near_info.selections;
-      const Mode q = near_info.mode;
-      const InputSet& U = sys.inputs(q);
-      const auto x_near = t.nodes.state(near);
-
-      double best = std::numeric_limits<double>::infinity();
-      std::size_t best_j = 0;
-      PropagationResult best_r;
-      for (std::size_t j = 0; j < U.count(); ++j) {
-        const PropagationResult r = t.prop->propagate(q, x_near, U.input(j), p, info.step_duration, t.candidate);
-        ++t.counters.propagations;
-        t.counters.integration_steps += r.steps;
-        if (r.end == PropagationEnd::rejected) continue;
-        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
-        const double d = metric.distance(t.x_rand, t.candidate);
-        if (d < best) {
-          best = d;
-          best_j = j;
-          best_r = r;
-          t.x_new.swap(t.candidate);
-        }
-      }
-      if (t.prop->interrupted()) return;  // the deadline passed mid-extension: not a stall
-      if (best == std::numeric_limits<double>::infinity()) {  // no input made progress
-        ++near_info.failed_extensions;
+      const RrtExtensionResult r = t.step.extend(t.nodes, *t.nn, *t.prop, t.x_rand, t.p, t.counters);
+      if (!r.added()) {
+        if (t.prop->interrupted()) return;  // the deadline passed mid-extension: not a stall
         ++t.failed_streak;
         continue;
       }
-      const NodeId id = t.nodes.add(near, q, best_r.mode, t.x_new, U.input(best_j), best_r.duration, best_r.transition);
-      t.nn->add(id, t.x_new);
-      t.grid->add(t.x_new);
-      ++t.counters.nodes;
+      t.grid->add(t.nodes.state(r.node));
       ++added;
       t.failed_streak = 0;
       if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
@@ -396,7 +381,7 @@ class Rrft final : public Planner {
                                               static_cast<double>(t.grid->points()) *
                                                   t.grid->growth(static_cast<std::size_t>(o_.window)));
       }
-      if (best_r.end == PropagationEnd::unsafe || best_r.spec <= 0.0) t.leaf = id;
+      if (r.reached_unsafe) t.leaf = r.node;
     }
   }
 
@@ -417,16 +402,17 @@ MethodEntry rrft_method() {
   return {"rrft",
           "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
           "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
-          {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)"},
-           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)"},
-           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)"},
-           {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min"},
-           {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min"},
-           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled"},
-           {"max_seeds", 64, "at most this many seeds (trees) per trial"},
+          {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
+           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)", "[1, 100000]"},
+           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},
+           {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min", "[0, 1]"},
+           {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min", "[0, 1]"},
+           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled", "[1, 10000000]"},
+           {"max_seeds", 64, "at most this many seeds (trees) per trial", "[1, 4096]"},
            {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
-           {"series_every", 50, "tree nodes between points of the coverage/growth series"}},
-          [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); }};
+           {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"}},
+          [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
+          check_rrft_system};
 }
 
 }  // namespace hyfal

@@ -23,11 +23,12 @@ namespace hyfal {
 
 namespace {
 
+// Defaults and ranges are declared once, in rrt_dstar_method(); `o` is resolved against them.
 struct DstarOptions {
-  int boxes = 8;
-  double uniform_mix = 0.1;
-  int refresh = 50;
-  double floor = 0.05;
+  int boxes;
+  double uniform_mix;
+  int refresh;
+  double floor;
 };
 
 DstarOptions parse_options(const Json& o) {
@@ -36,10 +37,6 @@ DstarOptions parse_options(const Json& o) {
   d.uniform_mix = o.at("uniform_mix").get<double>();
   d.refresh = o.at("refresh").get<int>();
   d.floor = o.at("floor").get<double>();
-  if (d.boxes < 1) throw std::invalid_argument("rrt-dstar: boxes must be >= 1");
-  if (!(d.uniform_mix >= 0.0 && d.uniform_mix <= 1.0)) throw std::invalid_argument("rrt-dstar: uniform_mix must be in [0, 1]");
-  if (d.refresh < 1) throw std::invalid_argument("rrt-dstar: refresh must be >= 1");
-  if (!(d.floor > 0.0)) throw std::invalid_argument("rrt-dstar: floor must be > 0");
   return d;
 }
 
@@ -84,10 +81,10 @@ MethodEntry rrt_dstar_method() {
   return {"rrt-dstar",
           "RRT[D*] (Dang & Nahhal; baseline of seed 002): baseline RRT with x_rand drawn preferentially in "
           "grid cells of low coverage (star-discrepancy estimate over state dimensions 0 and 1)",
-          {{"boxes", 8, "B: grid cells per projected axis (state dimensions 0 and 1)"},
-           {"uniform_mix", 0.1, "fraction of plain uniform draws of x_rand"},
-           {"refresh", 50, "iterations between recomputations of the cell weights"},
-           {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2"}},
+          {{"boxes", 8, "B: grid cells per projected axis (state dimensions 0 and 1)", "[1, 1024]"},
+           {"uniform_mix", 0.1, "fraction of plain uniform draws of x_rand", "[0, 1]"},
+           {"refresh", 50, "iterations between recomputations of the cell weights", "[1, 1000000]"},
+           {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2", "(0, 1]"}},
           [](const Json& o) { return std::make_unique<RrtDstar>(parse_options(o)); }};
 }
 
