@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <thread>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -125,8 +126,8 @@ StoreErrorKind kind_of(int rc) {
 }
 
 [[noreturn]] void throw_sqlite_error(sqlite3* connection, std::string_view what) {
-  throw StoreError(kind_of(sqlite3_extended_errcode(connection)),
-                   fmt::format("{}: {}", what, sqlite3_errmsg(connection)));
+  const int rc = sqlite3_extended_errcode(connection);
+  throw StoreError(kind_of(rc), fmt::format("{}: {}", what, sqlite3_errmsg(connection)), rc);
 }
 
 void execute(sqlite3* connection, const char* sql, std::string_view what) {
@@ -252,7 +253,7 @@ RawConnection open_connection(const std::string& path, const std::string& name, 
   RawConnection connection(raw, &sqlite3_close_v2);  // a handle is allocated even on failure
   if (rc != SQLITE_OK)
     throw StoreError(kind_of(rc), fmt::format("cannot open results database '{}': {}", path,
-                                              raw == nullptr ? sqlite3_errstr(rc) : sqlite3_errmsg(raw)));
+                                              raw == nullptr ? sqlite3_errstr(rc) : sqlite3_errmsg(raw)), rc);
   sqlite3_extended_result_codes(raw, 1);
   if (sqlite3_busy_timeout(raw, kBusyTimeoutMs) != SQLITE_OK)
     throw_sqlite_error(raw, fmt::format("cannot open results database '{}'", path));
@@ -453,7 +454,7 @@ void configure(sqlite3* connection, const std::string& path) {
     const int rc = sqlite3_extended_errcode(connection);
     const std::string message = sqlite3_errmsg(connection);
     sqlite3_exec(connection, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw StoreError(kind_of(rc), fmt::format("cannot create the schema of results database '{}': {}", path, message));
+    throw StoreError(kind_of(rc), fmt::format("cannot create the schema of results database '{}': {}", path, message), rc);
   }
   run("COMMIT");
 }
@@ -573,6 +574,23 @@ void TrialStore::require_writable(const char* what) const {
 }
 
 TrialStore TrialStore::open(const std::string& path) {
+  // Two processes opening one database at the same moment (cooperative runs) can meet SQLite
+  // states in which it answers SQLITE_BUSY without calling the busy handler (a journal-mode
+  // change or WAL recovery under way in the other process): the whole open is retried then,
+  // within the same busy timeout as every other statement.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(kBusyTimeoutMs);
+  for (;;) {
+    try {
+      return open_once(path);
+    } catch (const StoreError& e) {
+      const int primary = e.sqlite_code() & 0xff;
+      if ((primary != SQLITE_BUSY && primary != SQLITE_LOCKED) || std::chrono::steady_clock::now() >= give_up) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+}
+
+TrialStore TrialStore::open_once(const std::string& path) {
   if (existing_database_file(path)) {
     // Check first, reading only: a file that is not a hyfal database is never written to.
     const ReadOnlyConnection check(path);  // closed (and its -wal/-shm removed) at the end of this block

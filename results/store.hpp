@@ -36,11 +36,15 @@ enum class StoreErrorKind {
 // Any failure of the results database; what() is one line naming the database and the cause.
 class StoreError : public std::runtime_error {
  public:
-  StoreError(StoreErrorKind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  StoreError(StoreErrorKind kind, const std::string& what, int sqlite_code = 0)
+      : std::runtime_error(what), kind_(kind), sqlite_code_(sqlite_code) {}
   StoreErrorKind kind() const noexcept { return kind_; }
+  // SQLite's (extended) result code behind the failure, 0 when it did not come from SQLite.
+  int sqlite_code() const noexcept { return sqlite_code_; }
 
  private:
   StoreErrorKind kind_;
+  int sqlite_code_;
 };
 
 // Who runs a claimed trial: one process, told apart from a later process that reuses its pid by
@@ -96,6 +100,10 @@ class TrialStore {
   // that is not a hyfal database, an unsupported schema version, a directory or an empty path;
   // environment when a usable path cannot be opened (I/O, disk full, locked, permissions).
   static TrialStore open(const std::string& path);
+ private:
+  static TrialStore open_once(const std::string& path);
+
+ public:
 
   // Opens an existing hyfal database for reading only (URI mode=ro: works on a read-only file
   // or folder, never takes a write lock, never waits for a writer: WAL readers see the last
