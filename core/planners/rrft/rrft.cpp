@@ -90,20 +90,21 @@ namespace hyfal {
 
 namespace {
 
+// Defaults and ranges are declared once, in rrft_method(); `o` is resolved against them.
 struct RrftOptions {
-  int n_t = 4;
-  int K = 10;
-  double g_min = 0.01;
-  double c_min = 0.05;
-  double mu_min = 0.1;
-  int window = 200;
-  int max_seeds = 64;
-  bool shift = false;
-  int series_every = 50;
+  int n_t;
+  int K;
+  double g_min;
+  double c_min;
+  double mu_min;
+  int window;
+  int max_seeds;
+  bool shift;
+  int series_every;
 };
 
 RrftOptions parse_options(const Json& o) {
-  RrftOptions r;
+  RrftOptions r{};
   r.n_t = o.at("n_t").get<int>();
   r.K = o.at("K").get<int>();
   r.g_min = o.at("g_min").get<double>();
@@ -113,14 +114,6 @@ RrftOptions parse_options(const Json& o) {
   r.max_seeds = o.at("max_seeds").get<int>();
   r.shift = o.at("shift").get<bool>();
   r.series_every = o.at("series_every").get<int>();
-  if (r.n_t < 1) throw std::invalid_argument("rrft: n_t must be >= 1");
-  if (r.K < 1) throw std::invalid_argument("rrft: K must be >= 1");
-  if (!(r.g_min >= 0.0) || !std::isfinite(r.g_min)) throw std::invalid_argument("rrft: g_min must be finite and >= 0");
-  if (!(r.c_min >= 0.0 && r.c_min <= 1.0)) throw std::invalid_argument("rrft: c_min must be in [0, 1]");
-  if (!(r.mu_min >= 0.0 && r.mu_min <= 1.0)) throw std::invalid_argument("rrft: mu_min must be in [0, 1]");
-  if (r.window < 1) throw std::invalid_argument("rrft: window must be >= 1");
-  if (r.max_seeds < 1) throw std::invalid_argument("rrft: max_seeds must be >= 1");
-  if (r.series_every < 1) throw std::invalid_argument("rrft: series_every must be >= 1");
   return r;
 }
 
