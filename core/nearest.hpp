@@ -4,6 +4,8 @@
 // stores the projection z_i = sqrt(w_i) x_i, in which rho is the plain L2 distance, so the
 // query is exact. BruteForceNeighbors is the test oracle.
 #pragma once
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -18,6 +20,7 @@
 #include <nanoflann.hpp>
 #pragma GCC diagnostic pop
 
+#include "core/parallel_slots.hpp"
 #include "core/tree.hpp"
 
 namespace hyfal {
@@ -50,18 +53,35 @@ struct Neighbor {
   double distance = std::numeric_limits<double>::infinity();
 };
 
+// Exact k-NN over the nodes of one tree. Queries are const and thread-safe (all scratch is on
+// the caller's stack): any number of threads may query at once while no node is being added. A
+// deterministic parallel planner therefore works in rounds: queries against the frozen index
+// (knn_batch answers a whole batch in parallel), then the round's new nodes inserted in order
+// (add_batch).
 class NearestNeighbors {
  public:
-  explicit NearestNeighbors(const WeightedEuclidean& metric)
-      : metric_(metric), points_(metric.dim()), query_(metric.dim()), index_(make_index(metric.dim(), points_)) {}
+  // Queries with k above this use a heap buffer (one allocation per query); k <= 64 none.
+  static constexpr std::size_t kStackK = 64;
+  static constexpr std::size_t kStackDim = 64;
 
-  // Adds node `id` (ids must be added densely in order 0, 1, 2, ...).
+  explicit NearestNeighbors(const WeightedEuclidean& metric)
+      : metric_(metric), points_(metric.dim()), index_(make_index(metric.dim(), points_)) {}
+
+  // Adds node `id` (ids must be added densely in order 0, 1, 2, ...). One writer at a time, and
+  // no query in flight.
   void add(NodeId id, std::span<const double> x) {
-    const std::size_t i = points_.rows.push_back();
+    const std::size_t i = points_.count.load(std::memory_order_relaxed);
+    points_.rows.ensure(i);
     metric_.project(x, points_.rows.row(i));
+    points_.count.store(i + 1, std::memory_order_release);
     index_->add(id);
   }
-  std::size_t size() const { return points_.rows.size(); }
+  // Adds the nodes first, first + 1, ... whose states are the rows of `states` (n values each).
+  void add_batch(NodeId first, std::span<const double> states) {
+    const std::size_t n = metric_.dim();
+    for (std::size_t k = 0; k * n < states.size(); ++k) add(first + static_cast<NodeId>(k), states.subspan(k * n, n));
+  }
+  std::size_t size() const { return points_.count.load(std::memory_order_acquire); }
 
   Neighbor nearest(std::span<const double> x) const {
     Neighbor n;
@@ -69,20 +89,51 @@ class NearestNeighbors {
     return n;
   }
   // Fills `out` with the k = out.size() nearest nodes, nearest first; returns how many found.
+  // Thread-safe (const, no shared scratch).
   std::size_t knn(std::span<const double> x, std::span<Neighbor> out) const {
-    metric_.project(x, query_);
-    ids_.resize(out.size());
-    d2_.resize(out.size());
-    const std::size_t found = index_->knn(query_.data(), out.size(), ids_.data(), d2_.data());
-    for (std::size_t i = 0; i < found; ++i) out[i] = {ids_[i], std::sqrt(d2_[i])};
+    const std::size_t dim = metric_.dim(), k = out.size();
+    std::array<double, kStackDim> q_stack;
+    std::vector<double> q_heap;
+    double* q = q_stack.data();
+    if (dim > kStackDim) {
+      q_heap.resize(dim);
+      q = q_heap.data();
+    }
+    metric_.project(x, std::span<double>(q, dim));
+    std::array<std::uint32_t, kStackK> id_stack;
+    std::array<double, kStackK> d2_stack;
+    std::vector<std::uint32_t> id_heap;
+    std::vector<double> d2_heap;
+    std::uint32_t* ids = id_stack.data();
+    double* d2 = d2_stack.data();
+    if (k > kStackK) {
+      id_heap.resize(k);
+      d2_heap.resize(k);
+      ids = id_heap.data();
+      d2 = d2_heap.data();
+    }
+    const std::size_t found = index_->knn(q, k, ids, d2);
+    for (std::size_t i = 0; i < found; ++i) out[i] = {ids[i], std::sqrt(d2[i])};
     return found;
+  }
+  // Answers queries.size() / dim k-NN queries (rows of `queries`, dim values each) at once, in
+  // parallel on the calling thread's oneTBB arena: query i's k neighbours go to
+  // out[i*k, (i+1)*k), `found[i]` how many. The same answers as knn() one by one.
+  // `cpu`: the trial's clock, so that cpu_s counts the helping threads (core/trial_cpu.hpp).
+  void knn_batch(std::span<const double> queries, std::size_t k, std::span<Neighbor> out,
+                 std::span<std::size_t> found, TrialCpuClock* cpu = nullptr) const {
+    const std::size_t dim = metric_.dim();
+    parallel_slots(found.size(), cpu, [&](std::size_t i) {
+      found[i] = knn(queries.subspan(i * dim, dim), out.subspan(i * k, k));
+    }, /*grain=*/8);
   }
 
  private:
   struct Points {  // nanoflann dataset adaptor over projected rows
     explicit Points(std::size_t dim) : rows(dim) {}
     SegmentedRows<double> rows;
-    std::size_t kdtree_get_point_count() const { return rows.size(); }
+    std::atomic<std::size_t> count{0};
+    std::size_t kdtree_get_point_count() const { return count.load(std::memory_order_acquire); }
     double kdtree_get_pt(std::size_t i, std::size_t d) const { return rows.row(i)[d]; }
     template <class BBox>
     bool kdtree_get_bbox(BBox&) const { return false; }
@@ -95,6 +146,7 @@ class NearestNeighbors {
   };
   // nanoflann with the dimension fixed at compile time: its per-query distance buffer is then
   // a std::array (with a run-time dimension it heap-allocates a vector per sub-tree searched).
+  // findNeighbors is const and keeps its scratch on the stack: concurrent queries are safe.
   template <int D>
   struct FixedIndex final : Index {
     using Tree = nanoflann::KDTreeSingleIndexDynamicAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
@@ -126,9 +178,6 @@ class NearestNeighbors {
 
   const WeightedEuclidean& metric_;
   Points points_;
-  mutable std::vector<double> query_;
-  mutable std::vector<std::uint32_t> ids_;
-  mutable std::vector<double> d2_;
   std::unique_ptr<Index> index_;
 };
 

@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -146,8 +147,7 @@ class EnhancedRrt final : public Planner {
     // The forest: one tree per initial state.
     std::vector<std::vector<double>> starts{info.initial_state};
     for (const auto& x0 : info.other_initial_states) starts.push_back(x0);
-    std::vector<Tree> forest;
-    forest.reserve(starts.size());
+    std::deque<Tree> forest;  // trees never move (their NN index points into their own storage)
     auto add_node = [&](Tree& t, NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
                         std::span<const double> u, double duration, int transition) {
       const NodeId id = t.nodes.add(parent, edge_mode, mode, x, u, duration, transition);

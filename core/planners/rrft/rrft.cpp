@@ -383,7 +383,7 @@ class Rrft final : public Planner {
     t.grid.reset();
     t.nn.reset();
     t.prop.reset();
-    t.nodes = NodeStore(t.nodes.state_dim(), t.nodes.input_dim());
+    t.nodes.clear();
   }
 
   RrftOptions o_;

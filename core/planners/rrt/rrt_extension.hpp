@@ -41,9 +41,8 @@ class RrtExtension {
   RrtExtensionResult extend(NodeStore& tree, NearestNeighbors& nn, Propagator& prop, std::span<const double> x_rand,
                             std::span<const double> p, PlannerCounters& counters) {
     const NodeId near = nn.nearest(x_rand).id;
-    NodeInfo& near_info = tree.info(near);
-    ++near_info.selections;
-    const Mode q = near_info.mode;
+    tree.count_selection(near);
+    const Mode q = tree.info(near).mode;
     const auto x_near = tree.state(near);
     inputs_.at(q, x_near);
 
@@ -64,7 +63,7 @@ class RrtExtension {
       }
     }
     if (best == std::numeric_limits<double>::infinity()) {
-      ++near_info.failed_extensions;
+      tree.count_failure(near);
       return {};
     }
     const NodeId id = tree.add(near, q, best_r.mode, x_new_, inputs_.input(best_j), best_r.duration, best_r.transition);
