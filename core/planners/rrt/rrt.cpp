@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_loop.hpp"
 
 namespace hyfal {
@@ -28,10 +29,14 @@ class UniformXRand {
 
 class Rrt final : public Planner {
  public:
+  explicit Rrt(std::size_t batch) : batch_(batch) {}
   PlannerOutcome solve(const PlannerContext& ctx) override {
     UniformXRand source(ctx.system.info().sampling_box);
-    return grow_rrt(ctx, source);
+    return grow_rrt(ctx, source, batch_);
   }
+
+ private:
+  std::size_t batch_;
 };
 
 }  // namespace
@@ -39,8 +44,8 @@ class Rrt final : public Planner {
 MethodEntry rrt_method() {
   return {"rrt",
           "baseline RRT (seed 000 Alg. 1-2): uniform x_rand, nearest node by the metric, best input of Ū",
-          {},
-          [](const Json&) { return std::make_unique<Rrt>(); }};
+          {batch_option()},
+          [](const Json& o) { return std::make_unique<Rrt>(o.at("batch").get<std::size_t>()); }};
 }
 
 }  // namespace hyfal

@@ -11,7 +11,7 @@
 //   else x_new is added, and it "reached the unsafe set" when its propagation was stopped by
 //   it or ended with s <= 0.
 // Each step object owns its scratch (the input grid and two state buffers): one per tree and
-// thread, no allocation per step after the first use of the largest Ū.
+// slot, no allocation per step after the first use of the largest Ū.
 #pragma once
 #include <limits>
 #include <span>
@@ -30,6 +30,11 @@ struct RrtExtensionResult {
   bool added() const { return node != kNoNode; }
 };
 
+// The extension split into its phases for batches (core/parallel_slots.hpp): propose() reads the
+// tree only (x_near given, e.g. from NearestNeighbors::knn_batch; every input of Ū propagated;
+// the best kept in this object's scratch) and may run concurrently with other slots' propose();
+// commit() then adds the proposal to the tree, one slot at a time in slot order. extend() is
+// propose() + commit() for the sequential algorithm.
 class RrtExtension {
  public:
   RrtExtension(const System& system, const WeightedEuclidean& metric)
@@ -40,15 +45,19 @@ class RrtExtension {
   // into `counters`.
   RrtExtensionResult extend(NodeStore& tree, NearestNeighbors& nn, Propagator& prop, std::span<const double> x_rand,
                             std::span<const double> p, PlannerCounters& counters) {
-    const NodeId near = nn.nearest(x_rand).id;
-    tree.count_selection(near);
+    propose(tree, nn.nearest(x_rand).id, prop, x_rand, p, counters);
+    return commit(tree, nn, counters);
+  }
+
+  // Phases 1-2 from x_near = `near`: propagations and integration steps go to `counters`.
+  void propose(const NodeStore& tree, NodeId near, Propagator& prop, std::span<const double> x_rand,
+               std::span<const double> p, PlannerCounters& counters) {
+    near_ = near;
+    progress_ = false;
     const Mode q = tree.info(near).mode;
     const auto x_near = tree.state(near);
     inputs_.at(q, x_near);
-
     double best = std::numeric_limits<double>::infinity();
-    std::size_t best_j = 0;
-    PropagationResult best_r;
     for (std::size_t j = 0; j < inputs_.count(); ++j) {
       const PropagationResult r = prop.propagate(q, x_near, inputs_.input(j), p, system_.info().step_duration, candidate_);
       ++counters.propagations;
@@ -57,20 +66,27 @@ class RrtExtension {
       const double d = metric_.distance(x_rand, candidate_);
       if (d < best) {
         best = d;
-        best_j = j;
-        best_r = r;
+        best_j_ = j;
+        best_r_ = r;
         x_new_.swap(candidate_);
+        progress_ = true;
       }
     }
-    if (best == std::numeric_limits<double>::infinity()) {
-      tree.count_failure(near);
+    q_ = q;
+  }
+  // Phase 3: x_near's selection (and failure) counts; x_new added to the tree and the index.
+  RrtExtensionResult commit(NodeStore& tree, NearestNeighbors& nn, PlannerCounters& counters) {
+    tree.count_selection(near_);
+    if (!progress_) {
+      tree.count_failure(near_);
       return {};
     }
-    const NodeId id = tree.add(near, q, best_r.mode, x_new_, inputs_.input(best_j), best_r.duration, best_r.transition);
+    const NodeId id = tree.add(near_, q_, best_r_.mode, x_new_, inputs_.input(best_j_), best_r_.duration, best_r_.transition);
     nn.add(id, x_new_);
     ++counters.nodes;
-    return {id, reached_unsafe(best_r)};
+    return {id, reached_unsafe(best_r_)};
   }
+  bool proposal_made_progress() const { return progress_; }
 
   // The no-progress filter: a propagation rejected at once, or one that ended after zero time
   // without a jump or the unsafe set, adds nothing to the tree.
@@ -85,6 +101,12 @@ class RrtExtension {
   const WeightedEuclidean& metric_;
   InputGrid inputs_;
   std::vector<double> candidate_, x_new_;
+  // The current proposal.
+  NodeId near_ = kNoNode;
+  Mode q_ = 0;
+  bool progress_ = false;
+  std::size_t best_j_ = 0;
+  PropagationResult best_r_;
 };
 
 }  // namespace hyfal

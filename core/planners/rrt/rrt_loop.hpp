@@ -7,10 +7,22 @@
 //
 // XRandSource: void sample(Rng&, std::span<double> x_rand); void added(std::span<const double> x)
 // (every node, the root included); void finish(PlannerOutcome&) (once, at the end).
+//
+// Batches (`batch` = B > 1, core/parallel_slots.hpp): each round draws B samples x_rand in slot
+// order (slot s from its own stream slot_seed(seed, round, s); the source's state, e.g. RRT[D*]'s
+// cell weights, is that of the round's start plus the earlier slots' draws), answers their
+// nearest-node queries as one batch against the frozen tree, propagates the B slots' inputs in
+// parallel (RrtExtension::propose), then commits them in slot order (RrtExtension::commit): so
+// two slots of a round may extend the same x_near, and a slot does not see the nodes its round
+// adds. The first slot (in slot order) that reaches s <= 0 ends the search; the node cap is
+// checked before each commit, so it is exact. B = 1 is the sequential loop above, with the
+// trial's one stream.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "core/nearest.hpp"
+#include "core/parallel_slots.hpp"
 #include "core/planner.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
 #include "core/rng.hpp"
@@ -19,7 +31,7 @@
 namespace hyfal {
 
 template <class XRandSource>
-PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source) {
+PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::size_t batch = 1) {
   const System& sys = ctx.system;
   const SystemInfo& info = sys.info();
   const std::size_t n = info.dim();
@@ -46,6 +58,48 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source) {
     return out;
   };
   if (sys.spec(info.initial_mode, info.initial_state, p) <= 0.0) return finish(root, TrialStatus::falsified);
+
+  if (batch > 1) {
+    // One scratch per slot: its step (input grid, state buffers), propagator and counters.
+    struct Slot {
+      Slot(const System& s, const WeightedEuclidean& m) : step(s, m), prop(s.make_propagator()) {}
+      RrtExtension step;
+      std::unique_ptr<Propagator> prop;
+      PlannerCounters counters;
+    };
+    std::vector<std::unique_ptr<Slot>> slots;
+    for (std::size_t s = 0; s < batch; ++s) {
+      slots.push_back(std::make_unique<Slot>(sys, metric));
+      slots.back()->prop->set_interrupt(budget.interrupt());
+    }
+    std::vector<double> x_rands(batch * n);
+    std::vector<Neighbor> nearest(batch);
+    std::vector<std::size_t> found(batch);
+    for (std::uint64_t round = 0;; ++round) {
+      if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
+      for (std::size_t s = 0; s < batch; ++s) {  // select: the samples, in slot order
+        Rng g(slot_seed(ctx.seed, round, s));
+        source.sample(g, std::span<double>(x_rands.data() + s * n, n));
+      }
+      nn.knn_batch(x_rands, 1, nearest, found, ctx.cpu);  // x_near of every slot, one batch
+      parallel_slots(batch, ctx.cpu, [&](std::size_t s) {  // propagate, against the frozen tree
+        slots[s]->counters = {};
+        slots[s]->step.propose(tree, nearest[s].id, *slots[s]->prop,
+                               std::span<const double>(x_rands.data() + s * n, n), p, slots[s]->counters);
+      });
+      for (std::size_t s = 0; s < batch; ++s) {  // commit, in slot order
+        c.propagations += slots[s]->counters.propagations;
+        c.integration_steps += slots[s]->counters.integration_steps;
+      }
+      for (std::size_t s = 0; s < batch; ++s) {
+        if (c.nodes >= ctx.limits.max_nodes) return finish(std::nullopt, TrialStatus::node_cap);
+        const RrtExtensionResult r = slots[s]->step.commit(tree, nn, c);
+        if (!r.added()) continue;
+        source.added(tree.state(r.node));
+        if (r.reached_unsafe) return finish(r.node, TrialStatus::falsified);
+      }
+    }
+  }
 
   std::vector<double> x_rand(n);
   RrtExtension step(sys, metric);

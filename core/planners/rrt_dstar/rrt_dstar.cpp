@@ -15,6 +15,7 @@
 
 #include "core/nearest.hpp"
 #include "core/rng.hpp"
+#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_loop.hpp"
 #include "core/samplers/star_discrepancy.hpp"
 #include "core/tree.hpp"
@@ -29,6 +30,7 @@ struct DstarOptions {
   double uniform_mix;
   int refresh;
   double floor;
+  std::size_t batch;
 };
 
 DstarOptions parse_options(const Json& o) {
@@ -37,6 +39,7 @@ DstarOptions parse_options(const Json& o) {
   d.uniform_mix = o.at("uniform_mix").get<double>();
   d.refresh = o.at("refresh").get<int>();
   d.floor = o.at("floor").get<double>();
+  d.batch = o.at("batch").get<std::size_t>();
   return d;
 }
 
@@ -68,7 +71,7 @@ class RrtDstar final : public Planner {
   explicit RrtDstar(DstarOptions o) : o_(o) {}
   PlannerOutcome solve(const PlannerContext& ctx) override {
     DiscrepancyXRand source(ctx.system.info(), o_);
-    return grow_rrt(ctx, source);
+    return grow_rrt(ctx, source, o_.batch);
   }
 
  private:
@@ -84,7 +87,8 @@ MethodEntry rrt_dstar_method() {
           {{"boxes", 8, "B: grid cells per projected axis (state dimensions 0 and 1)", "[1, 1024]"},
            {"uniform_mix", 0.1, "fraction of plain uniform draws of x_rand", "[0, 1]"},
            {"refresh", 50, "iterations between recomputations of the cell weights", "[1, 1000000]"},
-           {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2", "(0, 1]"}},
+           {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2", "(0, 1]"},
+           batch_option()},
           [](const Json& o) { return std::make_unique<RrtDstar>(parse_options(o)); }};
 }
 
