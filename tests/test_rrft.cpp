@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <thread>
+#include <cstdio>
+
+#include <fmt/format.h>
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -16,6 +19,7 @@
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
 #include "core/system.hpp"
+#include "core/trial_record.hpp"
 #include "core/trial_cpu.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
@@ -300,6 +304,39 @@ TEST(rrft, SameOutcomeAtOneAndTwoThreads) {
     ASSERT_EQ(a.status, TrialStatus::not_found);
     expect_same(*sys, a, b);
   }
+}
+
+std::string fingerprint(const System& sys, const PlannerOutcome& out) {
+  auto fnv = [](const std::string& s) {
+    std::uint64_t h = 1469598103934665603ULL;
+    for (unsigned char ch : s) h = (h ^ ch) * 1099511628211ULL;
+    return h;
+  };
+  std::string series;
+  for (const auto& s : out.series) series += Json(s.points).dump();
+  const std::string w = out.trajectory ? to_json(make_witness(sys, "rrft", 0, *out.trajectory)).dump() : "";
+  return fmt::format("{} {} {} {} {:016x} {:016x} {:016x}", to_string(out.status), out.counters.nodes,
+                     out.counters.propagations, out.counters.integration_steps, fnv(w), fnv(out.metrics.dump()),
+                     fnv(series));
+}
+
+// batch = 1 is RRFT as it was before the batch option, bit for bit (issue 12): fingerprints
+// recorded from the code before the option existed.
+TEST(rrft, BatchOneReproducesThePinnedResults) {
+  auto reach = ramp(1.2), unreachable = ramp(2.5);
+  // status nodes propagations integration_steps hash(witness) hash(metrics) hash(series)
+  const std::vector<std::string> pinned = {
+      "falsified 1255 4275 4275 fc785ec4159d223d a2d5181aba52f2ab b698ae3eef250407",
+      "falsified 803 2694 2694 771a5de779f09123 198d5b7814e19bd8 b91a966154253692",
+      "not_found 8001 26700 26700 14650fb0739d0383 0ec74f4d47c904db c072e950a2d443cf",
+      "node_cap 777 2535 2535 14650fb0739d0383 a83a30b62afd87bd b565a73614c1d722",
+  };
+  std::vector<std::string> got;
+  got.push_back(fingerprint(*reach, solve(*reach, rrft_options({{"n_t", "2"}, {"K", "7"}}), 99)));
+  got.push_back(fingerprint(*reach, solve(*reach, rrft_options({{"n_t", "2"}}), 3)));
+  got.push_back(fingerprint(*unreachable, solve(*unreachable, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}), 5)));
+  got.push_back(fingerprint(*unreachable, solve(*unreachable, rrft_options({{"g_min", "0"}, {"c_min", "0"}}), 5, 777)));
+  EXPECT_EQ(got, pinned);
 }
 
 TEST(rrft, ZeroDimensionalParameterSetGrowsOneTree) {
