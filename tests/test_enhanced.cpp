@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include <fmt/format.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include "core/coverage.hpp"
 #include "core/metrics/history_weight.hpp"
@@ -299,6 +300,52 @@ TEST(EnhancedRrt, BatchOneReproducesThePinnedSequentialResults) {
     got.push_back(fingerprint(*forest, solve(*forest, "enhanced-rrt", 6, v, 3000)));
   }
   EXPECT_EQ(got, pinned);
+}
+
+PlannerOutcome solve_in_arena(int threads, const System& sys, Sets sets, std::uint64_t seed, std::int64_t cap) {
+  PlannerOutcome out;
+  tbb::task_arena arena(threads);
+  arena.execute([&] { out = solve(sys, "enhanced-rrt", seed, std::move(sets), cap); });
+  return out;
+}
+
+std::string full_fingerprint(const System& sys, const PlannerOutcome& out) {
+  std::string series;
+  for (const auto& s : out.series) series += s.name + Json(s.points).dump();
+  return fingerprint(sys, out) + " " + out.metrics.dump() + " " + series;
+}
+
+// Issue 12: at a fixed batch the search does not depend on the number of threads (status,
+// counters, witness bytes, metrics, series), for each enhancement and for a forest.
+TEST(EnhancedRrt, BatchEightIsTheSameAtOneAndTwoThreads) {
+  auto thermo = thermostat();
+  auto forest = example31<true>({{1.0, 3.0}, {2.0, 1.0}});
+  for (auto v : pinned_variants()) {
+    v.emplace_back("batch", "8");
+    const auto a = solve_in_arena(1, *thermo, v, 5, 5000), b = solve_in_arena(2, *thermo, v, 5, 5000);
+    EXPECT_EQ(full_fingerprint(*thermo, a), full_fingerprint(*thermo, b)) << Json(v).dump();
+    if (a.trajectory) EXPECT_TRUE(validate_witness(*thermo, witness_of(*thermo, *a.trajectory)).valid) << Json(v).dump();
+    else EXPECT_EQ(a.status, TrialStatus::node_cap) << Json(v).dump();
+    const auto fa = solve_in_arena(1, *forest, v, 6, 3000), fb = solve_in_arena(2, *forest, v, 6, 3000);
+    EXPECT_EQ(full_fingerprint(*forest, fa), full_fingerprint(*forest, fb)) << Json(v).dump();
+    EXPECT_EQ(fa.metrics.at("trees").get<int>(), 3);
+    if (fa.trajectory) EXPECT_TRUE(validate_witness(*forest, witness_of(*forest, *fa.trajectory)).valid) << Json(v).dump();
+  }
+}
+
+// The node cap is exact inside a round, and the secondary stop ends a round between two commits.
+TEST(EnhancedRrt, BatchedRoundsKeepTheNodeCapExactAndTheStops) {
+  auto sys = example31<true>();
+  for (const char* b : {"3", "8", "64"}) {
+    const auto out = solve(*sys, "enhanced-rrt", 2, {{"history", "tree"}, {"batch", b}}, 47);
+    EXPECT_EQ(out.status, TrialStatus::node_cap) << b;  // unsafe set far from 47 nodes
+    EXPECT_EQ(out.counters.nodes, 47) << b;
+  }
+  auto thermo = thermostat();
+  const auto stopped =
+      solve(*thermo, "enhanced-rrt", 2, {{"coverage_window", "50"}, {"delta_c_min", "1"}, {"batch", "16"}}, 100000);
+  EXPECT_EQ(stopped.status, TrialStatus::not_found);
+  EXPECT_LE(stopped.counters.nodes, 52);
 }
 
 TEST(EnhancedRrt, BadOptionsAreRejected) {
