@@ -20,12 +20,23 @@
 // stops its round; when several did, the lowest seed index wins — with K = 1 this is exactly the
 // order of Alg. 3's for-loop), terminations, plantings, the budget. The node cap is exact:
 // before a round each tree gets a node quota min(K, what the cap leaves after the trees before
-// it), so the forest never holds more than max_nodes nodes. The coordinating thread publishes a
-// round with a release store that each task acquires, and each task ends with an acq_rel
-// increment that the coordinator acquires after the join: happens-before edges ThreadSanitizer
-// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it). Each task
-// body runs through the trial's TrialCpuClock, so cpu_s includes the helping threads' CPU; the
-// isolation keeps the trial's thread from running another trial's tasks while it waits.
+// it), so the forest never holds more than max_nodes nodes. The tasks run through
+// parallel_slots (core/parallel_slots.hpp): isolated, with happens-before edges ThreadSanitizer
+// sees, each body through the trial's TrialCpuClock so that cpu_s includes the helping threads.
+//
+// Batches (`batch` = B > 1, core/parallel_slots.hpp). A round gives every active tree B
+// expansion slots instead of K sequential attempts: slot s of tree T_i in round r draws x_rand
+// from its own stream slot_seed(T_i's stream seed, r, s) and proposes an extension against T_i
+// as it was at the round's start (RrtExtension::propose: nearest node, every input of Ū
+// propagated). All (tree, slot) pairs of the round run in ONE parallel_slots call, so the cores
+// balance over slots (a few microseconds to a millisecond each) rather than over whole trees, and
+// no core waits at the barrier for a tree that still has K sequential extensions to make. At the
+// barrier each tree commits its slots in slot order (RrtExtension::commit: selection and failure
+// counts, the new node), up to its node quota, stopping at its first node with s <= 0; then the
+// found check, terminations and plantings as above, in seed order. Every propagation the round
+// made is counted. The failed streak counts failed commits. Results depend on B, never on the
+// number of threads; B = 1 is the round of K sequential extensions above, with each tree's one
+// stream (pinned by a test).
 //
 // Coverage convention. Each tree has a CoverageGrid on the suite's coverage grid (n_g points,
 // spacing δ). Seed 003's eq. (3) c(T) = 1/(n_g δ) Σ_j min(d_j, δ) FALLS from 1 to 0 as the tree
@@ -68,18 +79,16 @@
 // point per planting); counters over the whole forest.
 #include "core/planners/rrft/rrft.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <optional>
 #include <random>
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include "core/coverage.hpp"
 #include "core/nearest.hpp"
+#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
@@ -101,6 +110,7 @@ struct RrftOptions {
   int max_seeds;
   bool shift;
   int series_every;
+  std::size_t batch;
 };
 
 RrftOptions parse_options(const Json& o) {
@@ -114,10 +124,25 @@ RrftOptions parse_options(const Json& o) {
   r.max_seeds = o.at("max_seeds").get<int>();
   r.shift = o.at("shift").get<bool>();
   r.series_every = o.at("series_every").get<int>();
+  r.batch = o.at("batch").get<std::size_t>();
   return r;
 }
 
 enum class TreeEnd { active, growth, coverage, stalled };
+
+// One expansion slot of a batched round (batch > 1): its own step scratch and propagator, and
+// the proposal it made against its tree's frozen state. Not tied to a tree: slot k of a round
+// serves (active tree k / B, slot k % B).
+struct RrftSlot {
+  RrftSlot(const System& sys, const WeightedEuclidean& metric)
+      : step(sys, metric), prop(sys.make_propagator()), x_rand(sys.info().dim()) {}
+  RrtExtension step;
+  std::unique_ptr<Propagator> prop;
+  std::vector<double> x_rand;
+  PlannerCounters counters;
+  bool proposed = false;     // false: no proposal (no quota left, or the time was up)
+  bool interrupted = false;  // the deadline passed mid-proposal: not a failed extension
+};
 
 // One tree of the forest, T_{p_i}. Touched by one task at a time (its round), else by the
 // coordinating thread at the barriers.
@@ -130,7 +155,8 @@ struct ForestTree {
         nn(std::in_place, metric),
         prop(sys.make_propagator()),
         step(sys, metric),
-        rng(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
+        stream_seed(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
+        rng(stream_seed),
         grid(std::in_place, sys.info().coverage, sys.info().dim()),
         coverage_series{fmt::format("coverage/tree{}", index_), {}},
         growth_series{fmt::format("growth/tree{}", index_), {}} {
@@ -145,6 +171,7 @@ struct ForestTree {
   std::optional<NearestNeighbors> nn;  // released when the tree ends
   std::unique_ptr<Propagator> prop;
   RrtExtension step;
+  std::uint64_t stream_seed;  // seeds rng (batch = 1) and the slots' streams (batch > 1)
   Rng rng;
   std::optional<CoverageGrid> grid;  // released when the tree ends
   std::vector<std::uniform_real_distribution<double>> uniform;
@@ -233,8 +260,8 @@ class Rrft final : public Planner {
     const std::size_t initial = std::min(max_active, max_seeds);
     for (std::size_t i = 0; i < initial; ++i) plant();
 
-    std::atomic<std::uint64_t> epoch{0}, finished{0};  // happens-before edges ThreadSanitizer sees
     std::vector<std::int64_t> quota;
+    std::vector<std::unique_ptr<RrftSlot>> slots;  // batch > 1: the rounds' slot scratch, reused
     std::int64_t rounds = 0;
     ForestTree* winner = nullptr;
     std::int64_t terminated[4] = {0, 0, 0, 0};
@@ -269,29 +296,10 @@ class Rrft final : public Planner {
         left -= quota[i];
       }
       ++rounds;
-      epoch.store(static_cast<std::uint64_t>(rounds), std::memory_order_release);
-      auto run = [&](std::size_t i) {
-        (void)epoch.load(std::memory_order_acquire);
-        auto body = [&] { grow(info, budget, *active[i], quota[i]); };
-        if (ctx.cpu)
-          ctx.cpu->task(body);  // cpu_s counts the threads that helped (isolated: only this trial's tasks)
-        else
-          body();
-        finished.fetch_add(1, std::memory_order_acq_rel);
-      };
-      if (active.size() == 1) {
-        run(0);
-      } else {
-        tbb::this_task_arena::isolate([&] {
-          tbb::parallel_for(
-              tbb::blocked_range<std::size_t>(0, active.size(), 1),
-              [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t i = r.begin(); i != r.end(); ++i) run(i);
-              },
-              tbb::simple_partitioner());
-        });
-      }
-      (void)finished.load(std::memory_order_acquire);
+      if (o_.batch > 1)
+        grow_batched(ctx, budget, sys, metric, active, quota, static_cast<std::uint64_t>(rounds), slots);
+      else  // one task per active tree, K sequential extensions each
+        parallel_slots(active.size(), ctx.cpu, [&](std::size_t i) { grow(info, budget, *active[i], quota[i]); });
       recount();
 
       // Terminations (seed order), unless a tree found the unsafe set this round.
@@ -364,18 +372,76 @@ class Rrft final : public Planner {
         ++t.failed_streak;
         continue;
       }
-      t.grid->add(t.nodes.state(r.node));
       ++added;
-      t.failed_streak = 0;
-      if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
-        t.coverage_series.points.emplace_back(static_cast<double>(t.nodes.size()), t.grid->uncovered());
-        if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
-          t.growth_series.points.emplace_back(static_cast<double>(t.nodes.size()),
-                                              static_cast<double>(t.grid->points()) *
-                                                  t.grid->growth(static_cast<std::size_t>(o_.window)));
-      }
-      if (r.reached_unsafe) t.leaf = r.node;
+      after_add(t, r);
     }
+  }
+
+  // One batched round (batch = B > 1): every active tree's B slots proposed in one parallel_slots
+  // call against the frozen trees, then each tree's slots committed in slot order, at most
+  // `quota` nodes per tree, stopping at the tree's first node with s <= 0.
+  void grow_batched(const PlannerContext& ctx, const SearchBudget& budget, const System& sys,
+                    const WeightedEuclidean& metric, const std::vector<ForestTree*>& active,
+                    const std::vector<std::int64_t>& quota, std::uint64_t round,
+                    std::vector<std::unique_ptr<RrftSlot>>& slots) const {
+    const std::size_t B = o_.batch, n = sys.info().dim();
+    const std::size_t count = active.size() * B;
+    while (slots.size() < count) {
+      slots.push_back(std::make_unique<RrftSlot>(sys, metric));
+      slots.back()->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
+    }
+    parallel_slots(count, ctx.cpu, [&](std::size_t k) {
+      const std::size_t i = k / B, s = k % B;
+      const ForestTree& t = *active[i];
+      RrftSlot& slot = *slots[k];
+      slot.counters = {};
+      slot.proposed = false;
+      slot.interrupted = false;
+      if (quota[i] <= 0 || t.leaf != kNoNode) return;  // nothing this tree may add
+      if (budget.exhausted(0)) return;                  // time or cancellation
+      Rng g(slot_seed(t.stream_seed, round, s));
+      for (std::size_t d = 0; d < n; ++d) {
+        auto axis = t.uniform[d];  // a copy: distributions are not const-callable
+        slot.x_rand[d] = axis(g);
+      }
+      slot.step.propose(t.nodes, t.nn->nearest(slot.x_rand).id, *slot.prop, slot.x_rand, t.p, slot.counters);
+      slot.interrupted = slot.prop->interrupted();
+      slot.proposed = true;
+    });
+    for (std::size_t i = 0; i < active.size(); ++i) {  // commit: trees in seed order, slots in slot order
+      ForestTree& t = *active[i];
+      for (std::size_t s = 0; s < B; ++s) {  // every propagation of the round was made
+        t.counters.propagations += slots[i * B + s]->counters.propagations;
+        t.counters.integration_steps += slots[i * B + s]->counters.integration_steps;
+      }
+      std::int64_t added = 0;
+      for (std::size_t s = 0; s < B && added < quota[i] && t.leaf == kNoNode; ++s) {
+        RrftSlot& slot = *slots[i * B + s];
+        if (!slot.proposed) continue;
+        const RrtExtensionResult r = slot.step.commit(t.nodes, *t.nn, t.counters);
+        if (!r.added()) {
+          if (slot.interrupted) break;  // the deadline passed mid-extension: not a stall
+          ++t.failed_streak;
+          continue;
+        }
+        ++added;
+        after_add(t, r);
+      }
+    }
+  }
+
+  // A new node of tree t: coverage, the failed streak, the series, the found check.
+  void after_add(ForestTree& t, const RrtExtensionResult& r) const {
+    t.grid->add(t.nodes.state(r.node));
+    t.failed_streak = 0;
+    if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
+      t.coverage_series.points.emplace_back(static_cast<double>(t.nodes.size()), t.grid->uncovered());
+      if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
+        t.growth_series.points.emplace_back(static_cast<double>(t.nodes.size()),
+                                            static_cast<double>(t.grid->points()) *
+                                                t.grid->growth(static_cast<std::size_t>(o_.window)));
+    }
+    if (r.reached_unsafe) t.leaf = r.node;
   }
 
   // A terminated tree never wins: free its search structures, keep its counters and series.
@@ -396,14 +462,15 @@ MethodEntry rrft_method() {
           "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
           "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
           {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
-           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)", "[1, 100000]"},
+           {"K", 10, "extension attempts per active tree per round at batch = 1 (K = 1: the interleaving of Alg. 3; batch B > 1: B slots per tree per round)", "[1, 100000]"},
            {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},
            {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min", "[0, 1]"},
            {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min", "[0, 1]"},
            {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled", "[1, 10000000]"},
            {"max_seeds", 64, "at most this many seeds (trees) per trial", "[1, 4096]"},
            {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
-           {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"}},
+           {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"},
+           batch_option()},
           [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
           check_rrft_system};
 }
