@@ -24,6 +24,22 @@
 // parallel_slots (core/parallel_slots.hpp): isolated, with happens-before edges ThreadSanitizer
 // sees, each body through the trial's TrialCpuClock so that cpu_s includes the helping threads.
 //
+// Run-ahead (batch = 1; issue 12: no core idles at a barrier while another tree has work). A
+// tree's round depends only on its own state, stream and node quota, and so does its own
+// termination test (stalled, not growing, fully grown: functions of its coverage grid and
+// failed streak). So a tree need not wait for the barrier of its round before it starts its next
+// one: a task grows one round of one tree, records what the barrier will need (its counters,
+// series lengths, series point, found, termination decision: RoundEnd), and, unless the tree
+// found s <= 0 or its test says it ends, starts the tree's next round at once. The barrier of
+// round r is passed (by whichever task finishes the last round r) when every active tree has
+// finished round r, from those records: the found check, terminations, plantings and the budget
+// exactly as above. A tree may run at most kRunAhead rounds past the next barrier, and only while
+// the node cap is far enough (what is left >= (rounds ahead + 1) · n_t · (K + 1), so that every
+// quota of those rounds is K, as lockstep would give); near the cap the trees fall back to
+// lockstep rounds with exact quotas. When the search ends at round R, the rounds trees ran
+// past R are thrown away: counters and series as of R (their propagations are not counted).
+// Results are identical to lockstep rounds at any thread count (pinned by a test).
+//
 // Batches (`batch` = B > 1, core/parallel_slots.hpp). A round gives every active tree B
 // expansion slots instead of K sequential attempts: slot s of tree T_i in round r draws x_rand
 // from its own stream slot_seed(T_i's stream seed, r, s) and proposes an extension against T_i
@@ -80,11 +96,16 @@
 #include "core/planners/rrft/rrft.hpp"
 
 #include <cmath>
+#include <deque>
+#include <mutex>
+#include <functional>
 #include <optional>
 #include <random>
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <oneapi/tbb/task_group.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include "core/coverage.hpp"
 #include "core/nearest.hpp"
@@ -129,6 +150,25 @@ RrftOptions parse_options(const Json& o) {
 }
 
 enum class TreeEnd { active, growth, coverage, stalled };
+
+// The point record_point() adds to a tree's coverage/growth series for its current size.
+struct SeriesPoint {
+  double n = 0.0;          // the tree's nodes
+  double uncovered = 1.0;  // D(T)
+  bool has_growth = false;  // more than `window` nodes: n_g·g(T) is defined
+  double growth = 0.0;     // n_g·g(T)
+};
+
+// What the barrier of a round needs from one tree, taken by the tree itself when it finishes the
+// round: with run-ahead (batch = 1) a tree may already be rounds further when its barrier comes.
+struct RoundEnd {
+  std::int64_t round = 0;
+  PlannerCounters counters;
+  std::size_t coverage_points = 0, growth_points = 0;  // series lengths
+  SeriesPoint point;
+  bool found = false;                  // the tree reached s <= 0 (it stops)
+  TreeEnd decision = TreeEnd::active;  // its termination test (it stops unless active)
+};
 
 // One expansion slot of a batched round (batch > 1): its own step scratch and propagator, and
 // the proposal it made against its tree's frozen state. Not tied to a tree: slot k of a round
@@ -181,6 +221,13 @@ struct ForestTree {
   NodeId leaf = kNoNode;           // a node with s <= 0, once found
   TreeEnd end = TreeEnd::active;
   NamedSeries coverage_series, growth_series;
+  // Scheduling (see "Run-ahead" in the header).
+  std::deque<RoundEnd> finished;  // rounds finished and not yet passed by their barrier
+  RoundEnd at_barrier;            // as of the last barrier passed (counters of the tree there)
+  std::int64_t last_round = 0;    // the last round this tree finished
+  std::int64_t next_quota = 0;    // node quota of round (barrier + 1), in seed order
+  bool running = false;           // a task is growing its next round
+  bool stopped = false;           // found or terminated by its own round end: no more rounds
 };
 
 // g(T) and D(T) (seed 003 eq. 3) are measured on the suite's coverage grid.
@@ -219,19 +266,50 @@ class Rrft final : public Planner {
     const std::size_t max_seeds = searched ? static_cast<std::size_t>(o_.max_seeds) : 1;
     double mu = searched ? 1.0 : 0.0;
     NamedSeries dispersion_series{"dispersion", {}};
-    PlannerCounters total;
+    PlannerCounters total;  // over the forest, as of the last barrier
+    std::int64_t rounds = 0;  // barriers passed (a tree planted at barrier b grows from round b + 1)
     auto recount = [&] {
       total = {};
       for (const auto& t : trees) {
-        total.nodes += t->counters.nodes;
-        total.propagations += t->counters.propagations;
-        total.integration_steps += t->counters.integration_steps;
+        total.nodes += t->at_barrier.counters.nodes;
+        total.propagations += t->at_barrier.counters.propagations;
+        total.integration_steps += t->at_barrier.counters.integration_steps;
       }
     };
     const double n_g = [&] {
       const CoverageGrid probe(info.coverage, info.dim());
       return static_cast<double>(probe.points());
     }();
+    auto point_of = [&](const ForestTree& t) {
+      SeriesPoint pt;
+      pt.n = static_cast<double>(t.nodes.size());
+      pt.uncovered = t.grid->uncovered();
+      pt.has_growth = t.grid->nodes() > static_cast<std::size_t>(o_.window);
+      if (pt.has_growth) pt.growth = n_g * t.grid->growth(static_cast<std::size_t>(o_.window));
+      return pt;
+    };
+    // The end of a tree's round, by the tree itself: its counters, series lengths, found, and its
+    // termination test (stalled, not growing, fully grown), all functions of its own state.
+    auto end_round = [&](ForestTree& t, std::int64_t round) {
+      RoundEnd e;
+      e.round = round;
+      e.counters = t.counters;
+      e.coverage_points = t.coverage_series.points.size();
+      e.growth_points = t.growth_series.points.size();
+      e.point = point_of(t);
+      e.found = t.leaf != kNoNode;
+      if (!e.found) {
+        if (t.failed_streak >= o_.window)
+          e.decision = TreeEnd::stalled;
+        else if (e.point.has_growth && e.point.growth <= o_.g_min)
+          e.decision = TreeEnd::growth;
+        else if (e.point.uncovered <= o_.c_min)
+          e.decision = TreeEnd::coverage;
+      }
+      t.stopped = e.found || e.decision != TreeEnd::active;
+      t.last_round = round;
+      t.finished.push_back(e);
+    };
 
     auto plant = [&] {
       std::vector<double> p = searched ? halton.next() : std::vector<double>(ctx.parameters.begin(), ctx.parameters.end());
@@ -243,18 +321,20 @@ class Rrft final : public Planner {
       t->grid->add(info.initial_state);
       t->counters.nodes = 1;
       if (sys.spec(info.initial_mode, info.initial_state, t->p) <= 0.0) t->leaf = root;
+      t->at_barrier.counters = t->counters;
+      t->at_barrier.found = t->leaf != kNoNode;
+      t->stopped = t->at_barrier.found;
+      t->last_round = rounds;
       active.push_back(t.get());
       trees.push_back(std::move(t));
       recount();
       mu = searched ? dispersion(seeds, P) : 0.0;
       dispersion_series.points.emplace_back(static_cast<double>(total.nodes), mu);
     };
-    auto record_point = [&](ForestTree& t) {
-      const double n = static_cast<double>(t.nodes.size());
-      if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == n) return;
-      t.coverage_series.points.emplace_back(n, t.grid->uncovered());
-      if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
-        t.growth_series.points.emplace_back(n, n_g * t.grid->growth(static_cast<std::size_t>(o_.window)));
+    auto record_point = [&](ForestTree& t, const SeriesPoint& pt) {
+      if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == pt.n) return;
+      t.coverage_series.points.emplace_back(pt.n, pt.uncovered);
+      if (pt.has_growth) t.growth_series.points.emplace_back(pt.n, pt.growth);
     };
 
     const std::size_t initial = std::min(max_active, max_seeds);
@@ -262,81 +342,152 @@ class Rrft final : public Planner {
 
     std::vector<std::int64_t> quota;
     std::vector<std::unique_ptr<RrftSlot>> slots;  // batch > 1: the rounds' slot scratch, reused
-    std::int64_t rounds = 0;
+    std::int64_t ahead = 0;   // run-ahead: rounds past (barrier + 1) a tree may start
     ForestTree* winner = nullptr;
     std::int64_t terminated[4] = {0, 0, 0, 0};
-    while (true) {
-      // The barrier, in seed order: found? (lowest seed index wins), then the budget.
+    bool done = false;
+    // The end checks, in seed order: found? (lowest seed index wins), no tree left, the budget.
+    auto end_checks = [&] {
       for (ForestTree* t : active)
-        if (t->leaf != kNoNode) {
+        if (t->at_barrier.found) {
           winner = t;
-          break;
+          out.status = TrialStatus::falsified;
+          return true;
         }
-      if (winner) {
-        out.status = TrialStatus::falsified;
-        Trajectory traj = trajectory_from_tree(sys, *winner->prop, winner->nodes, winner->leaf, winner->p);
-        traj.parameters = winner->p;
-        out.trajectory = std::move(traj);
-        break;
-      }
       if (active.empty()) {
         out.status = TrialStatus::not_found;
-        break;
+        return true;
       }
       if (auto why = budget.exhausted(total.nodes)) {
         out.status = *why;
-        break;
+        return true;
       }
-
-      // One round: K attempts per active tree, node quotas in seed order.
+      return false;
+    };
+    // Node quotas of the next round in seed order, and how far trees may run ahead of it.
+    auto plan_next_round = [&] {
       std::int64_t left = ctx.limits.max_nodes - total.nodes;
-      quota.assign(active.size(), 0);
-      for (std::size_t i = 0; i < active.size(); ++i) {
-        quota[i] = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
-        left -= quota[i];
-      }
-      ++rounds;
-      if (o_.batch > 1)
-        grow_batched(ctx, budget, sys, metric, active, quota, static_cast<std::uint64_t>(rounds), slots);
-      else  // one task per active tree, K sequential extensions each
-        parallel_slots(active.size(), ctx.cpu, [&](std::size_t i) { grow(info, budget, *active[i], quota[i]); });
-      recount();
-
-      // Terminations (seed order), unless a tree found the unsafe set this round.
-      bool found = false;
-      for (ForestTree* t : active) found = found || t->leaf != kNoNode;
-      if (found) continue;
-      std::vector<ForestTree*> still;
+      const std::int64_t per_round = static_cast<std::int64_t>(max_active) * (o_.K + 1);  // nodes and roots
+      ahead = 0;
+      while (ahead < kRunAhead && left >= (ahead + 2) * per_round) ++ahead;
       for (ForestTree* t : active) {
-        const bool full_window = t->grid->nodes() > static_cast<std::size_t>(o_.window);
-        if (t->failed_streak >= o_.window)
-          t->end = TreeEnd::stalled;
-        else if (full_window && n_g * t->grid->growth(static_cast<std::size_t>(o_.window)) <= o_.g_min)
-          t->end = TreeEnd::growth;
-        else if (t->grid->uncovered() <= o_.c_min)
-          t->end = TreeEnd::coverage;
-        if (t->end == TreeEnd::active) {
-          still.push_back(t);
-          continue;
-        }
-        ++terminated[static_cast<int>(t->end)];
-        record_point(*t);
-        release(*t);
+        t->next_quota = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
+        left -= t->next_quota;
       }
-      active.swap(still);
-      // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
-      while (searched && active.size() < max_active && trees.size() < max_seeds && mu > o_.mu_min &&
-             total.nodes < ctx.limits.max_nodes)
-        plant();
+    };
+    // The barrier of round `rounds` (every active tree finished it): found? then terminations
+    // (seed order), plantings, the end checks. Returns true when the search ends.
+    auto barrier = [&] {
+      ++rounds;
+      for (ForestTree* t : active) {
+        t->at_barrier = t->finished.front();
+        t->finished.pop_front();
+      }
+      recount();
+      bool found = false;
+      for (ForestTree* t : active) found = found || t->at_barrier.found;
+      if (!found) {  // terminations, unless a tree found the unsafe set this round
+        std::vector<ForestTree*> still;
+        for (ForestTree* t : active) {
+          t->end = t->at_barrier.decision;
+          if (t->end == TreeEnd::active) {
+            still.push_back(t);
+            continue;
+          }
+          ++terminated[static_cast<int>(t->end)];
+          record_point(*t, point_of(*t));  // a terminated tree stopped at this round
+          release(*t);
+        }
+        active.swap(still);
+        // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
+        while (searched && active.size() < max_active && trees.size() < max_seeds && mu > o_.mu_min &&
+               total.nodes < ctx.limits.max_nodes)
+          plant();
+      }
+      if (end_checks()) return true;
+      plan_next_round();
+      return false;
+    };
+
+    done = end_checks();
+    if (!done) plan_next_round();
+    if (!done && o_.batch > 1) {  // lockstep rounds of B slots per tree
+      while (!done) {
+        quota.clear();
+        for (ForestTree* t : active) quota.push_back(t->next_quota);
+        grow_batched(ctx, budget, sys, metric, active, quota, static_cast<std::uint64_t>(rounds + 1), slots);
+        for (ForestTree* t : active) end_round(*t, rounds + 1);
+        done = barrier();
+      }
+    } else if (!done) {
+      // Run-ahead rounds of K extensions: a task grows one round of one tree; when it ends, the
+      // same task starts that tree's next round if the tree goes on and the look-ahead allows,
+      // and passes every barrier whose round all active trees have finished.
+      std::mutex mutex;
+      tbb::task_group tasks;
+      std::function<void(ForestTree*)> start;  // under `mutex`
+      auto pass_barriers = [&] {                 // under `mutex`
+        while (!done) {
+          for (ForestTree* t : active)
+            if (t->finished.empty()) return;
+          done = barrier();
+          if (!done)
+            for (ForestTree* t : active) start(t);  // parked by the look-ahead, or planted
+        }
+      };
+      start = [&](ForestTree* t) {
+        if (done || t->running || t->stopped) return;
+        const std::int64_t round = t->last_round + 1;
+        if (round > rounds + 1 + ahead) return;  // parked until the next barrier
+        const std::int64_t q = round == rounds + 1 ? t->next_quota : o_.K;
+        t->running = true;
+        tasks.run([&, t, round, q] {
+          auto body = [&] {
+            { std::lock_guard<std::mutex> sync(mutex); }  // happens-before from the spawner
+            grow(info, budget, *t, q);
+            std::lock_guard<std::mutex> lock(mutex);
+            end_round(*t, round);
+            t->running = false;
+            start(t);
+            pass_barriers();
+          };
+          if (ctx.cpu)
+            ctx.cpu->task(body);  // cpu_s counts the threads that helped
+          else
+            body();
+        });
+      };
+      tbb::this_task_arena::isolate([&] {  // while it waits, this thread runs only this trial's rounds
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          for (ForestTree* t : active) start(t);
+        }
+        tasks.wait();
+      });
+      std::lock_guard<std::mutex> lock(mutex);  // happens-before from the last task
+    }
+    if (winner) {
+      Trajectory traj = trajectory_from_tree(sys, *winner->prop, winner->nodes, winner->leaf, winner->p);
+      traj.parameters = winner->p;
+      out.trajectory = std::move(traj);
     }
 
-    // Per-trial results.
+    // Per-trial results, as of the last barrier: a tree that ran ahead of it drops the series
+    // points of its later rounds (their counters are not counted either).
     recount();
     out.counters = total;
     Json per_tree = Json::array();
     for (auto& t : trees) {
-      per_tree.push_back(t->counters.nodes);
-      if (t->grid) record_point(*t);
+      per_tree.push_back(t->at_barrier.counters.nodes);
+      if (t->grid) {
+        if (t->last_round > rounds) {
+          t->coverage_series.points.resize(t->at_barrier.coverage_points);
+          t->growth_series.points.resize(t->at_barrier.growth_points);
+          record_point(*t, t->at_barrier.point);
+        } else {
+          record_point(*t, point_of(*t));
+        }
+      }
       out.series.push_back(std::move(t->coverage_series));
       out.series.push_back(std::move(t->growth_series));
     }
@@ -452,6 +603,10 @@ class Rrft final : public Planner {
     t.nodes.clear();
   }
 
+  // Rounds a tree may run ahead of the next barrier (batch = 1): enough to keep every core busy
+  // while one tree's round is slow, few enough that little work is done past the round where
+  // the search ends (it is thrown away).
+  static constexpr std::int64_t kRunAhead = 4;
   RrftOptions o_;
 };
 
