@@ -14,15 +14,16 @@
 // nearest x_rand; an extension where no input makes progress adds nothing).
 //
 // Rounds (determinism at any thread count). The active trees are advanced in rounds: each gets
-// K extension attempts per round, as one oneTBB task (tbb::parallel_for inside an isolated
-// region, so a waiting thread never picks up another trial). Everything that couples the trees
+// K extension attempts per round, as one oneTBB task (inside an isolated region, so a waiting
+// thread never picks up another trial). Everything that couples the trees
 // happens at the round barrier, in seed order: the "found" check (a tree that reaches s <= 0
 // stops its round; when several did, the lowest seed index wins — with K = 1 this is exactly the
 // order of Alg. 3's for-loop), terminations, plantings, the budget. The node cap is exact:
 // before a round each tree gets a node quota min(K, what the cap leaves after the trees before
-// it), so the forest never holds more than max_nodes nodes. The tasks run through
-// parallel_slots (core/parallel_slots.hpp): isolated, with happens-before edges ThreadSanitizer
-// sees, each body through the trial's TrialCpuClock so that cpu_s includes the helping threads.
+// it), so the forest never holds more than max_nodes nodes. Each task body runs through the
+// trial's TrialCpuClock, so that cpu_s includes the helping threads; the tasks synchronize
+// through a mutex (run-ahead, below) or parallel_slots (batches), both visible to
+// ThreadSanitizer (Debian's libtbb is not instrumented, so its own hand-offs are invisible to it).
 //
 // Run-ahead (batch = 1; issue 12: no core idles at a barrier while another tree has work). A
 // tree's round depends only on its own state, stream and node quota, and so does its own
