@@ -273,7 +273,11 @@ const std::vector<Sets>& pinned_variants() {
 }
 
 // batch = 1 is the sequential algorithm of before the batch option, bit for bit (issue 12): these
-// fingerprints were recorded from the code before the option existed.
+// fingerprints were recorded from the code before the option existed, except the two node_cap
+// entries (the t2go variants on the thermostat), re-recorded at cap 5000 to keep the test short
+// under ThreadSanitizer, after the same searches at cap 20000 had matched the pre-change
+// fingerprints ("node_cap 20000 99995 99995 ... 63419ed1b14d1b51" and
+// "node_cap 20000 121140 121140 ... 5f52dfea8fbec0ab").
 TEST(EnhancedRrt, BatchOneReproducesThePinnedSequentialResults) {
   auto thermo = thermostat();
   auto forest = example31<true>({{1.0, 3.0}, {2.0, 1.0}});
@@ -281,7 +285,7 @@ TEST(EnhancedRrt, BatchOneReproducesThePinnedSequentialResults) {
   const std::vector<std::string> pinned = {
       "falsified 1251 6250 6250 a503815b106568bf 3ce3174b7eba16d9",
       "falsified 61 290 290 5f6a5658e5ca9973 d897a96d80c7554a",
-      "node_cap 20000 99995 99995 14650fb0739d0383 63419ed1b14d1b51",
+      "node_cap 5000 24995 24995 14650fb0739d0383 0e61ce3081185b05",
       "falsified 169 830 830 ec353a8ccc448ff1 a1f63567f08e74a0",
       "falsified 1247 6250 6250 fbfccc19dd079d97 a8a328114f8fba11",
       "falsified 61 290 290 5f6a5658e5ca9973 84ddfc16ae241b1d",
@@ -291,12 +295,12 @@ TEST(EnhancedRrt, BatchOneReproducesThePinnedSequentialResults) {
       "falsified 51 240 240 0f9ba69c54bd5883 53c4231eeb28c162",
       "falsified 857 4280 4280 5a3dd3600f0ee999 603a6d41ba0b0c37",
       "falsified 72 345 345 0f9ba69c54bd5883 c13179f390ec2b22",
-      "node_cap 20000 121140 121140 14650fb0739d0383 5f52dfea8fbec0ab",
+      "node_cap 5000 29365 29365 14650fb0739d0383 c59044b3aff786a5",
       "falsified 51 240 240 0f9ba69c54bd5883 53c4231eeb28c162",
   };
   std::vector<std::string> got;
   for (const auto& v : pinned_variants()) {
-    got.push_back(fingerprint(*thermo, solve(*thermo, "enhanced-rrt", 5, v, 20000)));
+    got.push_back(fingerprint(*thermo, solve(*thermo, "enhanced-rrt", 5, v, 5000)));
     got.push_back(fingerprint(*forest, solve(*forest, "enhanced-rrt", 6, v, 3000)));
   }
   EXPECT_EQ(got, pinned);
@@ -322,7 +326,7 @@ TEST(EnhancedRrt, BatchEightIsTheSameAtOneAndTwoThreads) {
   auto forest = example31<true>({{1.0, 3.0}, {2.0, 1.0}});
   for (auto v : pinned_variants()) {
     v.emplace_back("batch", "8");
-    const auto a = solve_in_arena(1, *thermo, v, 5, 5000), b = solve_in_arena(2, *thermo, v, 5, 5000);
+    const auto a = solve_in_arena(1, *thermo, v, 5, 2000), b = solve_in_arena(2, *thermo, v, 5, 2000);
     EXPECT_EQ(full_fingerprint(*thermo, a), full_fingerprint(*thermo, b)) << Json(v).dump();
     if (a.trajectory) EXPECT_TRUE(validate_witness(*thermo, witness_of(*thermo, *a.trajectory)).valid) << Json(v).dump();
     else EXPECT_EQ(a.status, TrialStatus::node_cap) << Json(v).dump();

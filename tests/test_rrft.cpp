@@ -347,6 +347,43 @@ TEST(rrft, BatchOneReproducesThePinnedResults) {
   }
 }
 
+// Issue 12: at batch 8 (all trees' slots of a round in one parallel call) the outcome does not
+// depend on the number of threads either.
+TEST(rrft, BatchEightIsTheSameAtOneAndTwoThreads) {
+  auto run_in = [&](int threads, const System& sys, const Json& options, std::uint64_t seed, std::int64_t cap) {
+    PlannerOutcome out;
+    tbb::task_arena arena(threads);
+    arena.execute([&] { out = solve(sys, options, seed, cap); });
+    return out;
+  };
+  {  // falsified after terminations and a planting
+    auto sys = ramp(1.2);
+    const Json options = rrft_options({{"n_t", "2"}, {"batch", "8"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 99, 1'000'000), b = run_in(2, *sys, options, 99, 1'000'000);
+    ASSERT_EQ(a.status, TrialStatus::falsified);
+    EXPECT_GE(a.metrics.at("seeds_planted").get<int>(), 3);
+    expect_same(*sys, a, b);
+    EXPECT_EQ(fingerprint(*sys, a), fingerprint(*sys, b));
+    EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrft", 0, *a.trajectory)).valid);
+  }
+  {  // not_found: three trees at a time, seven plantings
+    auto sys = ramp(2.5);
+    const Json options = rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}, {"batch", "8"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 5, 1'000'000), b = run_in(2, *sys, options, 5, 1'000'000);
+    ASSERT_EQ(a.status, TrialStatus::not_found);
+    EXPECT_EQ(a.metrics.at("seeds_planted").get<int>(), 7);
+    expect_same(*sys, a, b);
+  }
+  {  // the node cap stays exact with quotas applied at the commits
+    auto sys = ramp(2.5);
+    const Json options = rrft_options({{"g_min", "0"}, {"c_min", "0"}, {"batch", "8"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 5, 777), b = run_in(2, *sys, options, 5, 777);
+    EXPECT_EQ(a.status, TrialStatus::node_cap);
+    EXPECT_EQ(a.counters.nodes, 777);
+    expect_same(*sys, a, b);
+  }
+}
+
 TEST(rrft, ZeroDimensionalParameterSetGrowsOneTree) {
   const SuiteEntry* s = find_suite("thermostat");
   auto sys = s->make(resolve_options(s->parameters, {}));
