@@ -5,12 +5,16 @@
 #include <cmath>
 #include <numeric>
 
+#include <fmt/format.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include "core/coverage.hpp"
 #include "core/metrics/history_weight.hpp"
 #include "core/metrics/time_to_go.hpp"
 #include "core/options.hpp"
 #include "core/samplers/biased_sampler.hpp"
 #include "core/system.hpp"
+#include "core/trial_record.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {
@@ -240,6 +244,112 @@ TEST(EnhancedRrt, GrowsOneTreePerInitialStateAndItsWitnessValidates) {
   EXPECT_EQ(out.metrics.at("trees").get<int>(), 3);
   const auto report = validate_witness(*sys, witness_of(*sys, *out.trajectory));
   EXPECT_TRUE(report.valid) << report.reason;
+}
+
+// A fingerprint of a search: status, counters, and an FNV-1a hash of the witness JSON and of the
+// metrics, so that a pinned list of them catches any change of the algorithm.
+std::string fingerprint(const System& sys, const PlannerOutcome& out) {
+  auto fnv = [](const std::string& s) {
+    std::uint64_t h = 1469598103934665603ULL;
+    for (unsigned char ch : s) h = (h ^ ch) * 1099511628211ULL;
+    return h;
+  };
+  const std::string w = out.trajectory ? to_json(make_witness(sys, "enhanced-rrt", 0, *out.trajectory)).dump() : "";
+  return fmt::format("{} {} {} {} {:016x} {:016x}", to_string(out.status), out.counters.nodes, out.counters.propagations,
+                     out.counters.integration_steps, fnv(w), fnv(out.metrics.dump()));
+}
+
+using Sets = std::vector<std::pair<std::string, std::string>>;
+const std::vector<Sets>& pinned_variants() {
+  static const std::vector<Sets> v = {
+      {},
+      {{"selection", "t2go"}},
+      {{"history", "knn"}},
+      {{"history", "tree"}},
+      {{"sampling", "adaptive"}, {"n_s", "5"}},
+      {{"sampling", "medium"}},
+      {{"selection", "t2go"}, {"history", "knn"}, {"sampling", "adaptive"}, {"n_s", "5"}}};
+  return v;
+}
+
+// batch = 1 is the sequential algorithm of before the batch option, bit for bit (issue 12): these
+// fingerprints were recorded from the code before the option existed, except the two node_cap
+// entries (the t2go variants on the thermostat), re-recorded at cap 5000 to keep the test short
+// under ThreadSanitizer, after the same searches at cap 20000 had matched the pre-change
+// fingerprints ("node_cap 20000 99995 99995 ... 63419ed1b14d1b51" and
+// "node_cap 20000 121140 121140 ... 5f52dfea8fbec0ab").
+TEST(EnhancedRrt, BatchOneReproducesThePinnedSequentialResults) {
+  auto thermo = thermostat();
+  auto forest = example31<true>({{1.0, 3.0}, {2.0, 1.0}});
+  // status nodes propagations integration_steps hash(witness) hash(metrics)
+  const std::vector<std::string> pinned = {
+      "falsified 1251 6250 6250 a503815b106568bf 3ce3174b7eba16d9",
+      "falsified 61 290 290 5f6a5658e5ca9973 d897a96d80c7554a",
+      "node_cap 5000 24995 24995 14650fb0739d0383 0e61ce3081185b05",
+      "falsified 169 830 830 ec353a8ccc448ff1 a1f63567f08e74a0",
+      "falsified 1247 6250 6250 fbfccc19dd079d97 a8a328114f8fba11",
+      "falsified 61 290 290 5f6a5658e5ca9973 84ddfc16ae241b1d",
+      "falsified 1251 6250 6250 fbfccc19dd079d97 d30ec474e555095e",
+      "falsified 61 290 290 5f6a5658e5ca9973 84ddfc16ae241b1d",
+      "falsified 4339 21690 21690 f564a6cfe4ff7093 de6270c0070b0274",
+      "falsified 51 240 240 0f9ba69c54bd5883 53c4231eeb28c162",
+      "falsified 857 4280 4280 5a3dd3600f0ee999 603a6d41ba0b0c37",
+      "falsified 72 345 345 0f9ba69c54bd5883 c13179f390ec2b22",
+      "node_cap 5000 29365 29365 14650fb0739d0383 c59044b3aff786a5",
+      "falsified 51 240 240 0f9ba69c54bd5883 53c4231eeb28c162",
+  };
+  std::vector<std::string> got;
+  for (const auto& v : pinned_variants()) {
+    got.push_back(fingerprint(*thermo, solve(*thermo, "enhanced-rrt", 5, v, 5000)));
+    got.push_back(fingerprint(*forest, solve(*forest, "enhanced-rrt", 6, v, 3000)));
+  }
+  EXPECT_EQ(got, pinned);
+}
+
+PlannerOutcome solve_in_arena(int threads, const System& sys, Sets sets, std::uint64_t seed, std::int64_t cap) {
+  PlannerOutcome out;
+  tbb::task_arena arena(threads);
+  arena.execute([&] { out = solve(sys, "enhanced-rrt", seed, std::move(sets), cap); });
+  return out;
+}
+
+std::string full_fingerprint(const System& sys, const PlannerOutcome& out) {
+  std::string series;
+  for (const auto& s : out.series) series += s.name + Json(s.points).dump();
+  return fingerprint(sys, out) + " " + out.metrics.dump() + " " + series;
+}
+
+// Issue 12: at a fixed batch the search does not depend on the number of threads (status,
+// counters, witness bytes, metrics, series), for each enhancement and for a forest.
+TEST(EnhancedRrt, BatchEightIsTheSameAtOneAndTwoThreads) {
+  auto thermo = thermostat();
+  auto forest = example31<true>({{1.0, 3.0}, {2.0, 1.0}});
+  for (auto v : pinned_variants()) {
+    v.emplace_back("batch", "8");
+    const auto a = solve_in_arena(1, *thermo, v, 5, 2000), b = solve_in_arena(2, *thermo, v, 5, 2000);
+    EXPECT_EQ(full_fingerprint(*thermo, a), full_fingerprint(*thermo, b)) << Json(v).dump();
+    if (a.trajectory) EXPECT_TRUE(validate_witness(*thermo, witness_of(*thermo, *a.trajectory)).valid) << Json(v).dump();
+    else EXPECT_EQ(a.status, TrialStatus::node_cap) << Json(v).dump();
+    const auto fa = solve_in_arena(1, *forest, v, 6, 3000), fb = solve_in_arena(2, *forest, v, 6, 3000);
+    EXPECT_EQ(full_fingerprint(*forest, fa), full_fingerprint(*forest, fb)) << Json(v).dump();
+    EXPECT_EQ(fa.metrics.at("trees").get<int>(), 3);
+    if (fa.trajectory) EXPECT_TRUE(validate_witness(*forest, witness_of(*forest, *fa.trajectory)).valid) << Json(v).dump();
+  }
+}
+
+// The node cap is exact inside a round, and the secondary stop ends a round between two commits.
+TEST(EnhancedRrt, BatchedRoundsKeepTheNodeCapExactAndTheStops) {
+  auto sys = example31<true>();
+  for (const char* b : {"3", "8", "64"}) {
+    const auto out = solve(*sys, "enhanced-rrt", 2, {{"history", "tree"}, {"batch", b}}, 47);
+    EXPECT_EQ(out.status, TrialStatus::node_cap) << b;  // unsafe set far from 47 nodes
+    EXPECT_EQ(out.counters.nodes, 47) << b;
+  }
+  auto thermo = thermostat();
+  const auto stopped =
+      solve(*thermo, "enhanced-rrt", 2, {{"coverage_window", "50"}, {"delta_c_min", "1"}, {"batch", "16"}}, 100000);
+  EXPECT_EQ(stopped.status, TrialStatus::not_found);
+  EXPECT_LE(stopped.counters.nodes, 52);
 }
 
 TEST(EnhancedRrt, BadOptionsAreRejected) {

@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <thread>
+#include <cstdio>
+
+#include <fmt/format.h>
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -16,6 +19,7 @@
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
 #include "core/system.hpp"
+#include "core/trial_record.hpp"
 #include "core/trial_cpu.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
@@ -298,6 +302,84 @@ TEST(rrft, SameOutcomeAtOneAndTwoThreads) {
     const Json options = rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}});
     const PlannerOutcome a = run_in(1, *sys, options, 5), b = run_in(2, *sys, options, 5);
     ASSERT_EQ(a.status, TrialStatus::not_found);
+    expect_same(*sys, a, b);
+  }
+}
+
+std::string fingerprint(const System& sys, const PlannerOutcome& out) {
+  auto fnv = [](const std::string& s) {
+    std::uint64_t h = 1469598103934665603ULL;
+    for (unsigned char ch : s) h = (h ^ ch) * 1099511628211ULL;
+    return h;
+  };
+  std::string series;
+  for (const auto& s : out.series) series += Json(s.points).dump();
+  const std::string w = out.trajectory ? to_json(make_witness(sys, "rrft", 0, *out.trajectory)).dump() : "";
+  return fmt::format("{} {} {} {} {:016x} {:016x} {:016x}", to_string(out.status), out.counters.nodes,
+                     out.counters.propagations, out.counters.integration_steps, fnv(w), fnv(out.metrics.dump()),
+                     fnv(series));
+}
+
+// batch = 1 is RRFT as it was before the batch option and before run-ahead, bit for bit (issue
+// 12): fingerprints recorded from the lockstep code. Run in arenas of 1, 2 and 4 threads, so
+// that trees run ahead of their barriers in different interleavings (4 threads on fewer cores
+// preempt tasks mid-round); one of the cases ends with trees past the winning round.
+TEST(rrft, BatchOneReproducesThePinnedResults) {
+  auto reach = ramp(1.2), unreachable = ramp(2.5);
+  // status nodes propagations integration_steps hash(witness) hash(metrics) hash(series)
+  const std::vector<std::string> pinned = {
+      "falsified 1255 4275 4275 fc785ec4159d223d a2d5181aba52f2ab b698ae3eef250407",
+      "falsified 803 2694 2694 771a5de779f09123 198d5b7814e19bd8 b91a966154253692",
+      "not_found 8001 26700 26700 14650fb0739d0383 0ec74f4d47c904db c072e950a2d443cf",
+      "node_cap 777 2535 2535 14650fb0739d0383 a83a30b62afd87bd b565a73614c1d722",
+  };
+  for (int threads : {1, 2, 4}) {
+    std::vector<std::string> got;
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      got.push_back(fingerprint(*reach, solve(*reach, rrft_options({{"n_t", "2"}, {"K", "7"}}), 99)));
+      got.push_back(fingerprint(*reach, solve(*reach, rrft_options({{"n_t", "2"}}), 3)));
+      got.push_back(fingerprint(*unreachable, solve(*unreachable, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}), 5)));
+      got.push_back(
+          fingerprint(*unreachable, solve(*unreachable, rrft_options({{"g_min", "0"}, {"c_min", "0"}}), 5, 777)));
+    });
+    EXPECT_EQ(got, pinned) << threads << " threads";
+  }
+}
+
+// Issue 12: at batch 8 (all trees' slots of a round in one parallel call) the outcome does not
+// depend on the number of threads either.
+TEST(rrft, BatchEightIsTheSameAtOneAndTwoThreads) {
+  auto run_in = [&](int threads, const System& sys, const Json& options, std::uint64_t seed, std::int64_t cap) {
+    PlannerOutcome out;
+    tbb::task_arena arena(threads);
+    arena.execute([&] { out = solve(sys, options, seed, cap); });
+    return out;
+  };
+  {  // falsified after terminations and a planting
+    auto sys = ramp(1.2);
+    const Json options = rrft_options({{"n_t", "2"}, {"batch", "8"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 99, 1'000'000), b = run_in(2, *sys, options, 99, 1'000'000);
+    ASSERT_EQ(a.status, TrialStatus::falsified);
+    EXPECT_GE(a.metrics.at("seeds_planted").get<int>(), 3);
+    expect_same(*sys, a, b);
+    EXPECT_EQ(fingerprint(*sys, a), fingerprint(*sys, b));
+    EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrft", 0, *a.trajectory)).valid);
+  }
+  {  // not_found: three trees at a time, seven plantings
+    auto sys = ramp(2.5);
+    const Json options = rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}, {"batch", "8"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 5, 1'000'000), b = run_in(2, *sys, options, 5, 1'000'000);
+    ASSERT_EQ(a.status, TrialStatus::not_found);
+    EXPECT_EQ(a.metrics.at("seeds_planted").get<int>(), 7);
+    expect_same(*sys, a, b);
+  }
+  {  // the node cap stays exact with quotas applied at the commits
+    auto sys = ramp(2.5);
+    const Json options = rrft_options({{"g_min", "0"}, {"c_min", "0"}, {"batch", "8"}});
+    const PlannerOutcome a = run_in(1, *sys, options, 5, 777), b = run_in(2, *sys, options, 5, 777);
+    EXPECT_EQ(a.status, TrialStatus::node_cap);
+    EXPECT_EQ(a.counters.nodes, 777);
     expect_same(*sys, a, b);
   }
 }

@@ -18,6 +18,28 @@
 // below `delta_c_min`. With several initial states (SystemInfo::other_initial_states) one tree
 // grows from each, in turn (the forest of seed 000 Fig. 12); nodes are counted over the forest.
 // With every option at its default this is exactly the baseline RRT (tested).
+//
+// The expansion step is split in two phases so that it can run in batches (issue 12,
+// core/parallel_slots.hpp): propose() (lines 1-4 of Alg. 4: x_rand, x_near, every input of Ū
+// propagated and scored) only reads the forest; commit() (lines 5-9: the first input not yet
+// applied from x_near, n_j, x_new, exclusions, β's record) writes it. The no-progress filter and
+// the unsafe test are RrtExtension's (core/planners/rrt/rrt_extension.hpp), shared with rrt.
+//
+// Batches (`batch` = B > 1). One round = B slots. Slot s of round r is Alg. 3's iteration
+// i = (iterations committed before the round) + s: it grows tree i mod (number of trees) (the
+// forest's rotation, as at B = 1), draws x_rand from its own stream slot_seed(seed, r, s) with
+// the β of the round's start, and selects x_near against the round's start: the k nearest, t2go,
+// H's n_j, the exclusions and the tree are all frozen while the slots propagate in parallel (one
+// propagator, time-to-go and input grid per slot). Then the slots are committed in slot order,
+// each exactly as one sequential iteration: the applied-input bits are the live ones (a slot
+// that picked an x_near an earlier slot of its round extended skips the input that slot applied,
+// counting n_j++), then n_j, exclusions, the new node, coverage, and AdaptiveBias::record. So
+// history and exclusions written by a round are seen by the next round's selections, and β can
+// only change between rounds as far as sampling is concerned (β is recomputed every N_s
+// records, possibly mid-commit, but the round's samples were already drawn with the old one).
+// The first slot in slot order whose node reaches s <= 0 ends the search; the node cap and the
+// coverage stop are checked before every commit, so the cap is exact. Every propagation the
+// round made is counted. B = 1 is the sequential algorithm with the trial's one stream (pinned).
 #include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
 
 #include <algorithm>
@@ -36,6 +58,8 @@
 #include "core/metrics/history_weight.hpp"
 #include "core/metrics/time_to_go.hpp"
 #include "core/nearest.hpp"
+#include "core/parallel_slots.hpp"
+#include "core/planners/rrt/rrt_extension.hpp"
 #include "core/rng.hpp"
 #include "core/samplers/biased_sampler.hpp"
 #include "core/tree.hpp"
@@ -114,9 +138,41 @@ struct Tree {
   std::vector<double> projected;               // sqrt(w) x of every node, for history = tree
 };
 
+// One expansion slot: its scratch (propagator, time-to-go and input grid, which all keep mutable
+// buffers, so each slot owns its own) and its proposal, filled by propose() against the frozen
+// forest and consumed by commit().
+struct Slot {
+  Slot(const System& sys, const WeightedEuclidean& metric, std::span<const double> p, int k)
+      : prop(sys.make_propagator()), t2go(sys, metric, p), U(sys), x_rand(sys.info().dim()),
+        neighbors(static_cast<std::size_t>(k)) {
+    const Box& box = sys.info().sampling_box;
+    for (std::size_t i = 0; i < box.dim(); ++i) uniform.emplace_back(box.lo[i], box.hi[i]);
+  }
+  std::unique_ptr<Propagator> prop;
+  TimeToGo t2go;
+  InputGrid U;  // Ū at x_near (admissible inputs of a driver model)
+  std::vector<std::uniform_real_distribution<double>> uniform;
+  std::vector<double> x_rand;
+  // select_near's buffers.
+  std::vector<Neighbor> neighbors;
+  std::vector<double> cand_dist, t2go_buf, query;
+  std::vector<std::uint32_t> cand_fail;
+  std::vector<NodeId> cand_id;
+  // Per-input outcomes of the extension, and the inputs by increasing score.
+  std::vector<double> states, score;
+  std::vector<PropagationResult> results;
+  std::vector<std::size_t> order;
+  PlannerCounters counters;  // this slot's propagations and integration steps
+  // The proposal.
+  std::size_t tree = 0;
+  bool in_spec = false;
+  NodeId near = kNoNode;
+  Mode q = 0;
+};
+
 class EnhancedRrt final : public Planner {
  public:
-  explicit EnhancedRrt(EnhancedOptions o) : o_(o) {}
+  EnhancedRrt(EnhancedOptions o, std::size_t batch) : o_(o), batch_(batch < 1 ? 1 : batch) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
     const System& sys = ctx.system;
@@ -126,19 +182,19 @@ class EnhancedRrt final : public Planner {
     PlannerOutcome out;
     PlannerCounters& c = out.counters;
     const WeightedEuclidean metric(info.metric_weights);
-    auto prop = sys.make_propagator();
-    TimeToGo t2go(sys, metric, p);
     const SearchBudget budget(ctx);
-    prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
-    Rng rng(ctx.seed);
-    InputGrid U(sys);  // Ū at x_near (admissible inputs of a driver model)
+    Rng rng(ctx.seed);  // batch = 1: the trial's one stream
 
-    const bool biased = o_.sampling != Sampling::uniform;
     check_enhanced_system(sys, o_);
     const BiasedSampler biased_sampler(info.sampling_box, info.goal_point, o_.sigma_min, o_.sigma_max);
     AdaptiveBias adaptive(o_.n_s);
-    std::vector<std::uniform_real_distribution<double>> uniform;
-    for (std::size_t i = 0; i < n; ++i) uniform.emplace_back(info.sampling_box.lo[i], info.sampling_box.hi[i]);
+
+    std::vector<std::unique_ptr<Slot>> slots;
+    for (std::size_t s = 0; s < batch_; ++s) {
+      slots.push_back(std::make_unique<Slot>(sys, metric, p, o_.k));
+      slots.back()->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
+    }
+    Propagator& prop = *slots.front()->prop;  // the witness is re-simulated with it
 
     std::optional<CoverageGrid> coverage;
     if (info.coverage.spacing > 0.0) coverage.emplace(info.coverage, n);
@@ -168,7 +224,7 @@ class EnhancedRrt final : public Planner {
     };
     auto finish_falsified = [&](Tree& t, NodeId leaf) {
       out.status = TrialStatus::falsified;
-      out.trajectory = trajectory_from_tree(sys, *prop, t.nodes, leaf, p);
+      out.trajectory = trajectory_from_tree(sys, prop, t.nodes, leaf, p);
     };
     for (const auto& x0 : starts) {
       forest.emplace_back(n, m, metric);
@@ -177,114 +233,76 @@ class EnhancedRrt final : public Planner {
     for (auto& t : forest)
       if (!out.trajectory && sys.spec(info.initial_mode, t.nodes.state(0), p) <= 0.0) finish_falsified(t, 0);
 
-    std::vector<double> x_rand(n), x_new(n);
-    std::vector<Neighbor> neighbors(static_cast<std::size_t>(o_.k));
-    std::vector<double> cand_dist;
-    std::vector<std::uint32_t> cand_fail;
-    std::vector<NodeId> cand_id;
-    // Per-input outcomes of one extension.
-    std::vector<double> states, score;
-    std::vector<PropagationResult> results;
-    std::vector<std::size_t> order;
-    std::int64_t iteration = 0;
+    // Alg. 3's secondary stop: Δc over the trailing N nodes below Δc_min.
+    auto coverage_stalled = [&] {
+      return coverage && o_.coverage_window > 0 && coverage->nodes() > static_cast<std::size_t>(o_.coverage_window) &&
+             coverage->growth(o_.coverage_window) * o_.coverage_window < o_.delta_c_min;
+    };
+    // Line 1-2 of Alg. 4: x_rand ~ B(x; µ, β) (or uniform) from `g`; in_spec: x_rand in S.
+    auto sample = [&](Rng& g, double beta, Slot& slot) {
+      if (o_.sampling != Sampling::uniform)
+        biased_sampler.sample(g, beta, slot.x_rand);
+      else
+        for (std::size_t i = 0; i < n; ++i) slot.x_rand[i] = slot.uniform[i](g);
+      slot.in_spec = o_.sampling == Sampling::adaptive && sys.spec(info.initial_mode, slot.x_rand, p) <= 0.0;
+    };
+    const std::size_t trees = forest.size();
+    std::int64_t iteration = 0;  // Alg. 3's iteration count (one per slot committed)
 
-    while (!out.trajectory) {
+    bool stopped = false;  // a stop rule ended the search between two commits
+    for (std::uint64_t round = 0; !out.trajectory && !stopped; ++round) {
       if (auto why = budget.exhausted(c.nodes)) {
         out.status = *why;
         break;
       }
-      if (coverage && o_.coverage_window > 0 && coverage->nodes() > static_cast<std::size_t>(o_.coverage_window) &&
-          coverage->growth(o_.coverage_window) * o_.coverage_window < o_.delta_c_min) {
-        out.status = TrialStatus::not_found;  // Alg. 3: Δc over the trailing N below Δc_min
+      if (coverage_stalled()) {
+        out.status = TrialStatus::not_found;
         break;
       }
-      Tree& t = forest[static_cast<std::size_t>(iteration % static_cast<std::int64_t>(forest.size()))];
-      ++iteration;
-
-      // Line 1-2 of Alg. 4: x_rand ~ B(x; µ, β) (or uniform).
+      // β as of the round's start: the slots of a round sample with it.
       const double beta = o_.sampling == Sampling::adaptive ? adaptive.beta()
                           : o_.sampling == Sampling::heavy  ? 1.0
                                                             : 0.5;
-      if (biased)
-        biased_sampler.sample(rng, beta, x_rand);
-      else
-        for (std::size_t i = 0; i < n; ++i) x_rand[i] = uniform[i](rng);
-      const bool in_spec = o_.sampling == Sampling::adaptive && sys.spec(info.initial_mode, x_rand, p) <= 0.0;
-
-      // Line 3: x_near.
-      const NodeId near = select_near(sys, t, metric, t2go, x_rand, in_spec, neighbors, cand_dist, cand_fail, cand_id);
-      if (near == kNoNode) {
-        if (o_.sampling == Sampling::adaptive) record_beta(adaptive, in_spec, false, iteration, beta_series);
-        continue;
+      if (batch_ == 1) {
+        Slot& slot = *slots.front();
+        slot.counters = {};
+        slot.tree = static_cast<std::size_t>(iteration % static_cast<std::int64_t>(trees));
+        sample(rng, beta, slot);
+        propose(sys, metric, p, forest[slot.tree], slot);
+      } else {
+        parallel_slots(batch_, ctx.cpu, [&](std::size_t s) {  // against the forest of the round's start
+          Slot& slot = *slots[s];
+          slot.counters = {};
+          // The per-iteration tree rotation, by the slot's global iteration index.
+          slot.tree = static_cast<std::size_t>((iteration + static_cast<std::int64_t>(s)) % static_cast<std::int64_t>(trees));
+          Rng g(slot_seed(ctx.seed, round, s));
+          sample(g, beta, slot);
+          propose(sys, metric, p, forest[slot.tree], slot);
+        });
       }
-      NodeInfo& near_info = t.nodes.info(near);
-      ++near_info.selections;
-      const Mode q = near_info.mode;
-      const auto x_near = t.nodes.state(near);
-      U.at(q, x_near);
-
-      // Line 4: propagate every input of Ū, score by rho or t2go toward x_rand.
-      const std::size_t nu = U.count();
-      states.resize(nu * n);
-      score.assign(nu, std::numeric_limits<double>::infinity());
-      results.resize(nu);
-      bool any_finite_t2go = false;
-      for (std::size_t j = 0; j < nu; ++j) {
-        std::span<double> xs(states.data() + j * n, n);
-        results[j] = prop->propagate(q, x_near, U.input(j), p, info.step_duration, xs);
-        ++c.propagations;
-        c.integration_steps += results[j].steps;
-        const PropagationResult& r = results[j];
-        if (r.end == PropagationEnd::rejected) continue;
-        if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
-        if (o_.selection == Selection::t2go && o_.t2go_inputs) {
-          score[j] = t2go(r.mode, xs, x_rand);
-          any_finite_t2go = any_finite_t2go || std::isfinite(score[j]);
-        } else {
-          score[j] = metric.distance(x_rand, xs);
+      for (const auto& slot : slots) {  // every propagation of the round was made
+        c.propagations += slot->counters.propagations;
+        c.integration_steps += slot->counters.integration_steps;
+      }
+      for (std::size_t s = 0; s < batch_ && !out.trajectory; ++s) {  // commit, in slot order
+        if (s > 0) {  // the checks of the round's start, for every later slot (node cap exact)
+          if (c.nodes >= ctx.limits.max_nodes) {
+            out.status = TrialStatus::node_cap;
+            stopped = true;
+            break;
+          }
+          if (coverage_stalled()) {
+            out.status = TrialStatus::not_found;
+            stopped = true;
+            break;
+          }
         }
+        ++iteration;
+        Slot& slot = *slots[s];
+        Tree& t = forest[slot.tree];
+        const NodeId leaf = commit(metric, t, slot, adaptive, iteration, beta_series, add_node);
+        if (leaf != kNoNode) finish_falsified(t, leaf);
       }
-      if (o_.selection == Selection::t2go && o_.t2go_inputs && !any_finite_t2go)  // fall back to rho
-        for (std::size_t j = 0; j < nu; ++j)
-          if (results[j].end != PropagationEnd::rejected &&
-              (results[j].duration > 0.0 || results[j].end == PropagationEnd::jumped || results[j].end == PropagationEnd::unsafe))
-            score[j] = metric.distance(x_rand, std::span<const double>(states.data() + j * n, n));
-
-      // Lines 5-9: the best input not applied from x_near yet; each already-applied one is a
-      // failed extension (n_j++) and leaves Ū.
-      order.resize(nu);
-      std::iota(order.begin(), order.end(), 0);
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return score[a] < score[b]; });
-      std::size_t chosen = nu;
-      for (std::size_t j : order) {
-        if (!std::isfinite(score[j])) break;
-        if (o_.history != History::none && was_applied(t, near, j, nu)) {
-          ++near_info.failed_extensions;
-          continue;
-        }
-        chosen = j;
-        break;
-      }
-      if (chosen == nu) {
-        if (o_.history == History::none) ++near_info.failed_extensions;  // no input made progress
-        if (in_spec) t.excluded[near] = 1;
-        if (o_.sampling == Sampling::adaptive) record_beta(adaptive, in_spec, false, iteration, beta_series);
-        continue;
-      }
-      // Without history weighting the tree still adds x_new (Alg. 2), but a repeated input is
-      // counted as a failed extension all the same, so Fig. 6 can compare n_j with and without.
-      if (o_.history == History::none && was_applied(t, near, chosen, nu)) ++near_info.failed_extensions;
-      mark_applied(t, near, chosen, nu);
-      std::copy_n(states.data() + chosen * n, n, x_new.begin());
-      const PropagationResult& r = results[chosen];
-      const double rho_before = metric.distance(x_near, x_rand);
-      const NodeId id = add_node(t, near, q, r.mode, x_new, U.input(chosen), r.duration, r.transition);
-      const bool successful = metric.distance(x_new, x_rand) < rho_before;
-      if (o_.sampling == Sampling::adaptive) {
-        if (in_spec && !successful) t.excluded[near] = 1;
-        record_beta(adaptive, in_spec, successful, iteration, beta_series);
-      }
-      if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) finish_falsified(t, id);
     }
 
     // Per-trial results.
@@ -302,9 +320,9 @@ class EnhancedRrt final : public Planner {
     std::vector<double> fails;
     for (const auto& t : forest)
       for (NodeId i = 0; i < t.nodes.size(); ++i) {
-        max_fail = std::max(max_fail, t.nodes.info(i).failed_extensions);
+        max_fail = std::max(max_fail, t.nodes.failed_extensions(i));
         excluded += t.excluded[i];
-        if (o_.record_failed_extensions) fails.push_back(t.nodes.info(i).failed_extensions);
+        if (o_.record_failed_extensions) fails.push_back(t.nodes.failed_extensions(i));
       }
     out.metrics["failed_extensions_max"] = max_fail;
     if (o_.sampling == Sampling::adaptive) out.metrics["excluded_nodes"] = excluded;
@@ -319,14 +337,93 @@ class EnhancedRrt final : public Planner {
   }
 
  private:
-  const char* sampling_name() const {
-    switch (o_.sampling) {
-      case Sampling::uniform: return "uniform";
-      case Sampling::medium: return "medium";
-      case Sampling::heavy: return "heavy";
-      case Sampling::adaptive: return "adaptive";
+  // Lines 3-4 of Alg. 4 for one slot, reading the tree only (it runs concurrently with the other
+  // slots of its round): x_near, then every input of Ū propagated and scored by rho or t2go
+  // toward x_rand, the inputs sorted by score (the order lines 5-9 try them in).
+  void propose(const System& sys, const WeightedEuclidean& metric, std::span<const double> p, const Tree& t,
+               Slot& slot) const {
+    const std::size_t n = metric.dim();
+    slot.near = select_near(t, metric, slot);
+    if (slot.near == kNoNode) return;
+    const Mode q = t.nodes.info(slot.near).mode;
+    slot.q = q;
+    const auto x_near = t.nodes.state(slot.near);
+    slot.U.at(q, x_near);
+    const std::size_t nu = slot.U.count();
+    slot.states.resize(nu * n);
+    slot.score.assign(nu, std::numeric_limits<double>::infinity());
+    slot.results.resize(nu);
+    const bool by_t2go = o_.selection == Selection::t2go && o_.t2go_inputs;
+    bool any_finite_t2go = false;
+    for (std::size_t j = 0; j < nu; ++j) {
+      std::span<double> xs(slot.states.data() + j * n, n);
+      slot.results[j] = slot.prop->propagate(q, x_near, slot.U.input(j), p, sys.info().step_duration, xs);
+      ++slot.counters.propagations;
+      slot.counters.integration_steps += slot.results[j].steps;
+      if (!RrtExtension::makes_progress(slot.results[j])) continue;  // the no-progress filter
+      if (by_t2go) {
+        slot.score[j] = slot.t2go(slot.results[j].mode, xs, slot.x_rand);
+        any_finite_t2go = any_finite_t2go || std::isfinite(slot.score[j]);
+      } else {
+        slot.score[j] = metric.distance(slot.x_rand, xs);
+      }
     }
-    return "?";
+    if (by_t2go && !any_finite_t2go)  // fall back to rho
+      for (std::size_t j = 0; j < nu; ++j)
+        if (RrtExtension::makes_progress(slot.results[j]))
+          slot.score[j] = metric.distance(slot.x_rand, std::span<const double>(slot.states.data() + j * n, n));
+    slot.order.resize(nu);
+    std::iota(slot.order.begin(), slot.order.end(), 0);
+    std::stable_sort(slot.order.begin(), slot.order.end(),
+                     [&](std::size_t a, std::size_t b) { return slot.score[a] < slot.score[b]; });
+  }
+
+  // Lines 3-9 of Alg. 4 committed for one slot (in slot order): x_near's selection; the best
+  // input not applied from x_near yet (each already-applied one is a failed extension, n_j++,
+  // and leaves Ū: the applied bits are the live ones, so two slots of a round that chose the
+  // same x_near do not add the same x_new twice); x_new added; exclusions; the β record.
+  // Returns the new node when it reached the unsafe set, else kNoNode.
+  template <class AddNode>
+  NodeId commit(const WeightedEuclidean& metric, Tree& t, Slot& slot, AdaptiveBias& adaptive, std::int64_t iteration,
+                NamedSeries& beta_series, AddNode& add_node) {
+    const std::size_t n = metric.dim();
+    const NodeId near = slot.near;
+    if (near == kNoNode) {
+      if (o_.sampling == Sampling::adaptive) record_beta(adaptive, slot.in_spec, false, iteration, beta_series);
+      return kNoNode;
+    }
+    t.nodes.count_selection(near);
+    const std::size_t nu = slot.U.count();
+    std::size_t chosen = nu;
+    for (std::size_t j : slot.order) {
+      if (!std::isfinite(slot.score[j])) break;
+      if (o_.history != History::none && was_applied(t, near, j, nu)) {
+        t.nodes.count_failure(near);
+        continue;
+      }
+      chosen = j;
+      break;
+    }
+    if (chosen == nu) {
+      if (o_.history == History::none) t.nodes.count_failure(near);  // no input made progress
+      if (slot.in_spec) t.excluded[near] = 1;
+      if (o_.sampling == Sampling::adaptive) record_beta(adaptive, slot.in_spec, false, iteration, beta_series);
+      return kNoNode;
+    }
+    // Without history weighting the tree still adds x_new (Alg. 2), but a repeated input is
+    // counted as a failed extension all the same, so Fig. 6 can compare n_j with and without.
+    if (o_.history == History::none && was_applied(t, near, chosen, nu)) t.nodes.count_failure(near);
+    mark_applied(t, near, chosen, nu);
+    const std::span<const double> x_new(slot.states.data() + chosen * n, n);
+    const PropagationResult& r = slot.results[chosen];
+    const double rho_before = metric.distance(t.nodes.state(near), slot.x_rand);
+    const NodeId id = add_node(t, near, slot.q, r.mode, x_new, slot.U.input(chosen), r.duration, r.transition);
+    const bool successful = metric.distance(x_new, slot.x_rand) < rho_before;
+    if (o_.sampling == Sampling::adaptive) {
+      if (slot.in_spec && !successful) t.excluded[near] = 1;
+      record_beta(adaptive, slot.in_spec, successful, iteration, beta_series);
+    }
+    return RrtExtension::reached_unsafe(r) ? id : kNoNode;
   }
 
   void record_beta(AdaptiveBias& adaptive, bool in_spec, bool successful, std::int64_t iteration, NamedSeries& s) {
@@ -345,12 +442,16 @@ class EnhancedRrt final : public Planner {
   }
 
   // Line 3 of Alg. 4: x_near = argmin over the candidates of rho, t2go, or H(., x_rand; rho|t2go).
-  NodeId select_near(const System& sys, Tree& t, const WeightedEuclidean& metric, TimeToGo& t2go,
-                     std::span<const double> x_rand, bool in_spec, std::vector<Neighbor>& neighbors,
-                     std::vector<double>& dist, std::vector<std::uint32_t>& fail, std::vector<NodeId>& ids) {
-    const bool skip_excluded = in_spec;
+  // Reads the tree only (n_j, exclusions as of the round's start), with the slot's buffers.
+  NodeId select_near(const Tree& t, const WeightedEuclidean& metric, Slot& slot) const {
+    const std::span<const double> x_rand = slot.x_rand;
+    std::vector<double>& dist = slot.cand_dist;
+    std::vector<std::uint32_t>& fail = slot.cand_fail;
+    std::vector<NodeId>& ids = slot.cand_id;
+    std::vector<Neighbor>& neighbors = slot.neighbors;
+    const bool skip_excluded = slot.in_spec;
     auto distance_of = [&](NodeId id, double rho) {
-      return o_.selection == Selection::t2go ? t2go(t.nodes.info(id).mode, t.nodes.state(id), x_rand) : rho;
+      return o_.selection == Selection::t2go ? slot.t2go(t.nodes.info(id).mode, t.nodes.state(id), x_rand) : rho;
     };
     if (o_.history == History::tree) {  // (III.3) normalized over the whole tree
       const std::size_t N = t.nodes.size(), n = metric.dim();
@@ -358,7 +459,7 @@ class EnhancedRrt final : public Planner {
       fail.clear();
       ids.clear();
       const auto& w = metric.weights();
-      std::vector<double>& z = query_;
+      std::vector<double>& z = slot.query;
       z.resize(n);
       for (std::size_t i = 0; i < n; ++i) z[i] = std::sqrt(w[i]) * x_rand[i];
       for (std::size_t id = 0; id < N; ++id) {
@@ -368,16 +469,16 @@ class EnhancedRrt final : public Planner {
         for (std::size_t i = 0; i < n; ++i) s += (a[i] - z[i]) * (a[i] - z[i]);
         ids.push_back(static_cast<NodeId>(id));
         dist.push_back(std::sqrt(s));
-        fail.push_back(t.nodes.info(static_cast<NodeId>(id)).failed_extensions);
+        fail.push_back(t.nodes.failed_extensions(static_cast<NodeId>(id)));
       }
       if (o_.selection == Selection::t2go) {
         bool any = false;
-        t2go_.resize(ids.size());
+        slot.t2go_buf.resize(ids.size());
         for (std::size_t i = 0; i < ids.size(); ++i) {
-          t2go_[i] = t2go(t.nodes.info(ids[i]).mode, t.nodes.state(ids[i]), x_rand);
-          any = any || std::isfinite(t2go_[i]);
+          slot.t2go_buf[i] = slot.t2go(t.nodes.info(ids[i]).mode, t.nodes.state(ids[i]), x_rand);
+          any = any || std::isfinite(slot.t2go_buf[i]);
         }
-        if (any) std::copy(t2go_.begin(), t2go_.end(), dist.begin());  // else rho decides (III.2 remark)
+        if (any) std::copy(slot.t2go_buf.begin(), slot.t2go_buf.end(), dist.begin());  // else rho decides (III.2 remark)
       }
       const std::size_t best = argmin_history_weight(dist, fail);
       return best == kNoCandidate ? kNoNode : ids[best];
@@ -405,23 +506,23 @@ class EnhancedRrt final : public Planner {
     if (ids.empty()) return kNoNode;
     if (o_.selection == Selection::t2go) {  // dist holds rho; t2go replaces it when any is finite
       bool any = false;
-      t2go_.resize(ids.size());
+      slot.t2go_buf.resize(ids.size());
       for (std::size_t i = 0; i < ids.size(); ++i) {
-        t2go_[i] = distance_of(ids[i], dist[i]);
-        any = any || std::isfinite(t2go_[i]);
+        slot.t2go_buf[i] = distance_of(ids[i], dist[i]);
+        any = any || std::isfinite(slot.t2go_buf[i]);
       }
-      if (any) std::copy(t2go_.begin(), t2go_.end(), dist.begin());
+      if (any) std::copy(slot.t2go_buf.begin(), slot.t2go_buf.end(), dist.begin());
     }
     if (o_.history == History::knn) {
       fail.resize(ids.size());
-      for (std::size_t i = 0; i < ids.size(); ++i) fail[i] = t.nodes.info(ids[i]).failed_extensions;
+      for (std::size_t i = 0; i < ids.size(); ++i) fail[i] = t.nodes.failed_extensions(ids[i]);
       return ids[argmin_history_weight(dist, fail)];
     }
     return ids[static_cast<std::size_t>(std::min_element(dist.begin(), dist.end()) - dist.begin())];
   }
 
   EnhancedOptions o_;
-  std::vector<double> t2go_, query_;  // select_near's buffers, reused across iterations
+  std::size_t batch_;
 };
 
 }  // namespace
@@ -442,8 +543,9 @@ MethodEntry enhanced_rrt_method() {
            {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded", "[1, inf)"},
            {"series_every", 100, "nodes between points of the coverage series", "[1, 100000000]"},
            {"t2go_inputs", true, "with selection=t2go, also pick u_new by t2go (Alg. 4); false: by the metric"},
-           {"record_failed_extensions", false, "store the sorted n_j of the final tree (Fig. 6) as a series"}},
-          [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o)); },
+           {"record_failed_extensions", false, "store the sorted n_j of the final tree (Fig. 6) as a series"},
+           batch_option()},
+          [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o), o.at("batch").get<std::size_t>()); },
           [](const System& sys, const Json& o) { check_enhanced_system(sys, parse_options(o)); }};
 }
 

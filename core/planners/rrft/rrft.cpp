@@ -14,18 +14,46 @@
 // nearest x_rand; an extension where no input makes progress adds nothing).
 //
 // Rounds (determinism at any thread count). The active trees are advanced in rounds: each gets
-// K extension attempts per round, as one oneTBB task (tbb::parallel_for inside an isolated
-// region, so a waiting thread never picks up another trial). Everything that couples the trees
+// K extension attempts per round, as one oneTBB task (inside an isolated region, so a waiting
+// thread never picks up another trial). Everything that couples the trees
 // happens at the round barrier, in seed order: the "found" check (a tree that reaches s <= 0
 // stops its round; when several did, the lowest seed index wins — with K = 1 this is exactly the
 // order of Alg. 3's for-loop), terminations, plantings, the budget. The node cap is exact:
 // before a round each tree gets a node quota min(K, what the cap leaves after the trees before
-// it), so the forest never holds more than max_nodes nodes. The coordinating thread publishes a
-// round with a release store that each task acquires, and each task ends with an acq_rel
-// increment that the coordinator acquires after the join: happens-before edges ThreadSanitizer
-// sees (Debian's libtbb is not instrumented, so its own joins are invisible to it). Each task
-// body runs through the trial's TrialCpuClock, so cpu_s includes the helping threads' CPU; the
-// isolation keeps the trial's thread from running another trial's tasks while it waits.
+// it), so the forest never holds more than max_nodes nodes. Each task body runs through the
+// trial's TrialCpuClock, so that cpu_s includes the helping threads; the tasks synchronize
+// through a mutex (run-ahead, below) or parallel_slots (batches), both visible to
+// ThreadSanitizer (Debian's libtbb is not instrumented, so its own hand-offs are invisible to it).
+//
+// Run-ahead (batch = 1; issue 12: no core idles at a barrier while another tree has work). A
+// tree's round depends only on its own state, stream and node quota, and so does its own
+// termination test (stalled, not growing, fully grown: functions of its coverage grid and
+// failed streak). So a tree need not wait for the barrier of its round before it starts its next
+// one: a task grows one round of one tree, records what the barrier will need (its counters,
+// series lengths, series point, found, termination decision: RoundEnd), and, unless the tree
+// found s <= 0 or its test says it ends, starts the tree's next round at once. The barrier of
+// round r is passed (by whichever task finishes the last round r) when every active tree has
+// finished round r, from those records: the found check, terminations, plantings and the budget
+// exactly as above. A tree may run at most kRunAhead rounds past the next barrier, and only while
+// the node cap is far enough (what is left >= (rounds ahead + 1) · n_t · (K + 1), so that every
+// quota of those rounds is K, as lockstep would give); near the cap the trees fall back to
+// lockstep rounds with exact quotas. When the search ends at round R, the rounds trees ran
+// past R are thrown away: counters and series as of R (their propagations are not counted).
+// Results are identical to lockstep rounds at any thread count (pinned by a test).
+//
+// Batches (`batch` = B > 1, core/parallel_slots.hpp). A round gives every active tree B
+// expansion slots instead of K sequential attempts: slot s of tree T_i in round r draws x_rand
+// from its own stream slot_seed(T_i's stream seed, r, s) and proposes an extension against T_i
+// as it was at the round's start (RrtExtension::propose: nearest node, every input of Ū
+// propagated). All (tree, slot) pairs of the round run in ONE parallel_slots call, so the cores
+// balance over slots (a few microseconds to a millisecond each) rather than over whole trees, and
+// no core waits at the barrier for a tree that still has K sequential extensions to make. At the
+// barrier each tree commits its slots in slot order (RrtExtension::commit: selection and failure
+// counts, the new node), up to its node quota, stopping at its first node with s <= 0; then the
+// found check, terminations and plantings as above, in seed order. Every propagation the round
+// made is counted. The failed streak counts failed commits. Results depend on B, never on the
+// number of threads; B = 1 is the round of K sequential extensions above, with each tree's one
+// stream (pinned by a test).
 //
 // Coverage convention. Each tree has a CoverageGrid on the suite's coverage grid (n_g points,
 // spacing δ). Seed 003's eq. (3) c(T) = 1/(n_g δ) Σ_j min(d_j, δ) FALLS from 1 to 0 as the tree
@@ -68,18 +96,21 @@
 // point per planting); counters over the whole forest.
 #include "core/planners/rrft/rrft.hpp"
 
-#include <atomic>
 #include <cmath>
+#include <deque>
+#include <mutex>
+#include <functional>
 #include <optional>
 #include <random>
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include "core/coverage.hpp"
 #include "core/nearest.hpp"
+#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
 #include "core/rng.hpp"
 #include "core/samplers/halton.hpp"
@@ -101,6 +132,7 @@ struct RrftOptions {
   int max_seeds;
   bool shift;
   int series_every;
+  std::size_t batch;
 };
 
 RrftOptions parse_options(const Json& o) {
@@ -114,10 +146,44 @@ RrftOptions parse_options(const Json& o) {
   r.max_seeds = o.at("max_seeds").get<int>();
   r.shift = o.at("shift").get<bool>();
   r.series_every = o.at("series_every").get<int>();
+  r.batch = o.at("batch").get<std::size_t>();
   return r;
 }
 
 enum class TreeEnd { active, growth, coverage, stalled };
+
+// The point record_point() adds to a tree's coverage/growth series for its current size.
+struct SeriesPoint {
+  double n = 0.0;          // the tree's nodes
+  double uncovered = 1.0;  // D(T)
+  bool has_growth = false;  // more than `window` nodes: n_g·g(T) is defined
+  double growth = 0.0;     // n_g·g(T)
+};
+
+// What the barrier of a round needs from one tree, taken by the tree itself when it finishes the
+// round: with run-ahead (batch = 1) a tree may already be rounds further when its barrier comes.
+struct RoundEnd {
+  std::int64_t round = 0;
+  PlannerCounters counters;
+  std::size_t coverage_points = 0, growth_points = 0;  // series lengths
+  SeriesPoint point;
+  bool found = false;                  // the tree reached s <= 0 (it stops)
+  TreeEnd decision = TreeEnd::active;  // its termination test (it stops unless active)
+};
+
+// One expansion slot of a batched round (batch > 1): its own step scratch and propagator, and
+// the proposal it made against its tree's frozen state. Not tied to a tree: slot k of a round
+// serves (active tree k / B, slot k % B).
+struct RrftSlot {
+  RrftSlot(const System& sys, const WeightedEuclidean& metric)
+      : step(sys, metric), prop(sys.make_propagator()), x_rand(sys.info().dim()) {}
+  RrtExtension step;
+  std::unique_ptr<Propagator> prop;
+  std::vector<double> x_rand;
+  PlannerCounters counters;
+  bool proposed = false;     // false: no proposal (no quota left, or the time was up)
+  bool interrupted = false;  // the deadline passed mid-proposal: not a failed extension
+};
 
 // One tree of the forest, T_{p_i}. Touched by one task at a time (its round), else by the
 // coordinating thread at the barriers.
@@ -130,7 +196,8 @@ struct ForestTree {
         nn(std::in_place, metric),
         prop(sys.make_propagator()),
         step(sys, metric),
-        rng(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
+        stream_seed(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
+        rng(stream_seed),
         grid(std::in_place, sys.info().coverage, sys.info().dim()),
         coverage_series{fmt::format("coverage/tree{}", index_), {}},
         growth_series{fmt::format("growth/tree{}", index_), {}} {
@@ -145,6 +212,7 @@ struct ForestTree {
   std::optional<NearestNeighbors> nn;  // released when the tree ends
   std::unique_ptr<Propagator> prop;
   RrtExtension step;
+  std::uint64_t stream_seed;  // seeds rng (batch = 1) and the slots' streams (batch > 1)
   Rng rng;
   std::optional<CoverageGrid> grid;  // released when the tree ends
   std::vector<std::uniform_real_distribution<double>> uniform;
@@ -154,6 +222,13 @@ struct ForestTree {
   NodeId leaf = kNoNode;           // a node with s <= 0, once found
   TreeEnd end = TreeEnd::active;
   NamedSeries coverage_series, growth_series;
+  // Scheduling (see "Run-ahead" in the header).
+  std::deque<RoundEnd> finished;  // rounds finished and not yet passed by their barrier
+  RoundEnd at_barrier;            // as of the last barrier passed (counters of the tree there)
+  std::int64_t last_round = 0;    // the last round this tree finished
+  std::int64_t next_quota = 0;    // node quota of round (barrier + 1), in seed order
+  bool running = false;           // a task is growing its next round
+  bool stopped = false;           // found or terminated by its own round end: no more rounds
 };
 
 // g(T) and D(T) (seed 003 eq. 3) are measured on the suite's coverage grid.
@@ -192,19 +267,50 @@ class Rrft final : public Planner {
     const std::size_t max_seeds = searched ? static_cast<std::size_t>(o_.max_seeds) : 1;
     double mu = searched ? 1.0 : 0.0;
     NamedSeries dispersion_series{"dispersion", {}};
-    PlannerCounters total;
+    PlannerCounters total;  // over the forest, as of the last barrier
+    std::int64_t rounds = 0;  // barriers passed (a tree planted at barrier b grows from round b + 1)
     auto recount = [&] {
       total = {};
       for (const auto& t : trees) {
-        total.nodes += t->counters.nodes;
-        total.propagations += t->counters.propagations;
-        total.integration_steps += t->counters.integration_steps;
+        total.nodes += t->at_barrier.counters.nodes;
+        total.propagations += t->at_barrier.counters.propagations;
+        total.integration_steps += t->at_barrier.counters.integration_steps;
       }
     };
     const double n_g = [&] {
       const CoverageGrid probe(info.coverage, info.dim());
       return static_cast<double>(probe.points());
     }();
+    auto point_of = [&](const ForestTree& t) {
+      SeriesPoint pt;
+      pt.n = static_cast<double>(t.nodes.size());
+      pt.uncovered = t.grid->uncovered();
+      pt.has_growth = t.grid->nodes() > static_cast<std::size_t>(o_.window);
+      if (pt.has_growth) pt.growth = n_g * t.grid->growth(static_cast<std::size_t>(o_.window));
+      return pt;
+    };
+    // The end of a tree's round, by the tree itself: its counters, series lengths, found, and its
+    // termination test (stalled, not growing, fully grown), all functions of its own state.
+    auto end_round = [&](ForestTree& t, std::int64_t round) {
+      RoundEnd e;
+      e.round = round;
+      e.counters = t.counters;
+      e.coverage_points = t.coverage_series.points.size();
+      e.growth_points = t.growth_series.points.size();
+      e.point = point_of(t);
+      e.found = t.leaf != kNoNode;
+      if (!e.found) {
+        if (t.failed_streak >= o_.window)
+          e.decision = TreeEnd::stalled;
+        else if (e.point.has_growth && e.point.growth <= o_.g_min)
+          e.decision = TreeEnd::growth;
+        else if (e.point.uncovered <= o_.c_min)
+          e.decision = TreeEnd::coverage;
+      }
+      t.stopped = e.found || e.decision != TreeEnd::active;
+      t.last_round = round;
+      t.finished.push_back(e);
+    };
 
     auto plant = [&] {
       std::vector<double> p = searched ? halton.next() : std::vector<double>(ctx.parameters.begin(), ctx.parameters.end());
@@ -216,119 +322,173 @@ class Rrft final : public Planner {
       t->grid->add(info.initial_state);
       t->counters.nodes = 1;
       if (sys.spec(info.initial_mode, info.initial_state, t->p) <= 0.0) t->leaf = root;
+      t->at_barrier.counters = t->counters;
+      t->at_barrier.found = t->leaf != kNoNode;
+      t->stopped = t->at_barrier.found;
+      t->last_round = rounds;
       active.push_back(t.get());
       trees.push_back(std::move(t));
       recount();
       mu = searched ? dispersion(seeds, P) : 0.0;
       dispersion_series.points.emplace_back(static_cast<double>(total.nodes), mu);
     };
-    auto record_point = [&](ForestTree& t) {
-      const double n = static_cast<double>(t.nodes.size());
-      if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == n) return;
-      t.coverage_series.points.emplace_back(n, t.grid->uncovered());
-      if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
-        t.growth_series.points.emplace_back(n, n_g * t.grid->growth(static_cast<std::size_t>(o_.window)));
+    auto record_point = [&](ForestTree& t, const SeriesPoint& pt) {
+      if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == pt.n) return;
+      t.coverage_series.points.emplace_back(pt.n, pt.uncovered);
+      if (pt.has_growth) t.growth_series.points.emplace_back(pt.n, pt.growth);
     };
 
     const std::size_t initial = std::min(max_active, max_seeds);
     for (std::size_t i = 0; i < initial; ++i) plant();
 
-    std::atomic<std::uint64_t> epoch{0}, finished{0};  // happens-before edges ThreadSanitizer sees
     std::vector<std::int64_t> quota;
-    std::int64_t rounds = 0;
+    std::vector<std::unique_ptr<RrftSlot>> slots;  // batch > 1: the rounds' slot scratch, reused
+    std::int64_t ahead = 0;   // run-ahead: rounds past (barrier + 1) a tree may start
     ForestTree* winner = nullptr;
     std::int64_t terminated[4] = {0, 0, 0, 0};
-    while (true) {
-      // The barrier, in seed order: found? (lowest seed index wins), then the budget.
+    bool done = false;
+    // The end checks, in seed order: found? (lowest seed index wins), no tree left, the budget.
+    auto end_checks = [&] {
       for (ForestTree* t : active)
-        if (t->leaf != kNoNode) {
+        if (t->at_barrier.found) {
           winner = t;
-          break;
+          out.status = TrialStatus::falsified;
+          return true;
         }
-      if (winner) {
-        out.status = TrialStatus::falsified;
-        Trajectory traj = trajectory_from_tree(sys, *winner->prop, winner->nodes, winner->leaf, winner->p);
-        traj.parameters = winner->p;
-        out.trajectory = std::move(traj);
-        break;
-      }
       if (active.empty()) {
         out.status = TrialStatus::not_found;
-        break;
+        return true;
       }
       if (auto why = budget.exhausted(total.nodes)) {
         out.status = *why;
-        break;
+        return true;
       }
-
-      // One round: K attempts per active tree, node quotas in seed order.
+      return false;
+    };
+    // Node quotas of the next round in seed order, and how far trees may run ahead of it.
+    auto plan_next_round = [&] {
       std::int64_t left = ctx.limits.max_nodes - total.nodes;
-      quota.assign(active.size(), 0);
-      for (std::size_t i = 0; i < active.size(); ++i) {
-        quota[i] = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
-        left -= quota[i];
-      }
-      ++rounds;
-      epoch.store(static_cast<std::uint64_t>(rounds), std::memory_order_release);
-      auto run = [&](std::size_t i) {
-        (void)epoch.load(std::memory_order_acquire);
-        auto body = [&] { grow(info, budget, *active[i], quota[i]); };
-        if (ctx.cpu)
-          ctx.cpu->task(body);  // cpu_s counts the threads that helped (isolated: only this trial's tasks)
-        else
-          body();
-        finished.fetch_add(1, std::memory_order_acq_rel);
-      };
-      if (active.size() == 1) {
-        run(0);
-      } else {
-        tbb::this_task_arena::isolate([&] {
-          tbb::parallel_for(
-              tbb::blocked_range<std::size_t>(0, active.size(), 1),
-              [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t i = r.begin(); i != r.end(); ++i) run(i);
-              },
-              tbb::simple_partitioner());
-        });
-      }
-      (void)finished.load(std::memory_order_acquire);
-      recount();
-
-      // Terminations (seed order), unless a tree found the unsafe set this round.
-      bool found = false;
-      for (ForestTree* t : active) found = found || t->leaf != kNoNode;
-      if (found) continue;
-      std::vector<ForestTree*> still;
+      const std::int64_t per_round = static_cast<std::int64_t>(max_active) * (o_.K + 1);  // nodes and roots
+      ahead = 0;
+      while (ahead < kRunAhead && left >= (ahead + 2) * per_round) ++ahead;
       for (ForestTree* t : active) {
-        const bool full_window = t->grid->nodes() > static_cast<std::size_t>(o_.window);
-        if (t->failed_streak >= o_.window)
-          t->end = TreeEnd::stalled;
-        else if (full_window && n_g * t->grid->growth(static_cast<std::size_t>(o_.window)) <= o_.g_min)
-          t->end = TreeEnd::growth;
-        else if (t->grid->uncovered() <= o_.c_min)
-          t->end = TreeEnd::coverage;
-        if (t->end == TreeEnd::active) {
-          still.push_back(t);
-          continue;
-        }
-        ++terminated[static_cast<int>(t->end)];
-        record_point(*t);
-        release(*t);
+        t->next_quota = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
+        left -= t->next_quota;
       }
-      active.swap(still);
-      // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
-      while (searched && active.size() < max_active && trees.size() < max_seeds && mu > o_.mu_min &&
-             total.nodes < ctx.limits.max_nodes)
-        plant();
+    };
+    // The barrier of round `rounds` (every active tree finished it): found? then terminations
+    // (seed order), plantings, the end checks. Returns true when the search ends.
+    auto barrier = [&] {
+      ++rounds;
+      for (ForestTree* t : active) {
+        t->at_barrier = t->finished.front();
+        t->finished.pop_front();
+      }
+      recount();
+      bool found = false;
+      for (ForestTree* t : active) found = found || t->at_barrier.found;
+      if (!found) {  // terminations, unless a tree found the unsafe set this round
+        std::vector<ForestTree*> still;
+        for (ForestTree* t : active) {
+          t->end = t->at_barrier.decision;
+          if (t->end == TreeEnd::active) {
+            still.push_back(t);
+            continue;
+          }
+          ++terminated[static_cast<int>(t->end)];
+          record_point(*t, point_of(*t));  // a terminated tree stopped at this round
+          release(*t);
+        }
+        active.swap(still);
+        // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
+        while (searched && active.size() < max_active && trees.size() < max_seeds && mu > o_.mu_min &&
+               total.nodes < ctx.limits.max_nodes)
+          plant();
+      }
+      if (end_checks()) return true;
+      plan_next_round();
+      return false;
+    };
+
+    done = end_checks();
+    if (!done) plan_next_round();
+    if (!done && o_.batch > 1) {  // lockstep rounds of B slots per tree
+      while (!done) {
+        quota.clear();
+        for (ForestTree* t : active) quota.push_back(t->next_quota);
+        grow_batched(ctx, budget, sys, metric, active, quota, static_cast<std::uint64_t>(rounds + 1), slots);
+        for (ForestTree* t : active) end_round(*t, rounds + 1);
+        done = barrier();
+      }
+    } else if (!done) {
+      // Run-ahead rounds of K extensions: a task grows one round of one tree; when it ends, the
+      // same task starts that tree's next round if the tree goes on and the look-ahead allows,
+      // and passes every barrier whose round all active trees have finished.
+      std::mutex mutex;
+      tbb::task_group tasks;
+      std::function<void(ForestTree*)> start;  // under `mutex`
+      auto pass_barriers = [&] {                 // under `mutex`
+        while (!done) {
+          for (ForestTree* t : active)
+            if (t->finished.empty()) return;
+          done = barrier();
+          if (!done)
+            for (ForestTree* t : active) start(t);  // parked by the look-ahead, or planted
+        }
+      };
+      start = [&](ForestTree* t) {
+        if (done || t->running || t->stopped) return;
+        const std::int64_t round = t->last_round + 1;
+        if (round > rounds + 1 + ahead) return;  // parked until the next barrier
+        const std::int64_t q = round == rounds + 1 ? t->next_quota : o_.K;
+        t->running = true;
+        tasks.run([&, t, round, q] {
+          auto body = [&] {
+            { std::lock_guard<std::mutex> sync(mutex); }  // happens-before from the spawner
+            grow(info, budget, *t, q);
+            std::lock_guard<std::mutex> lock(mutex);
+            end_round(*t, round);
+            t->running = false;
+            start(t);
+            pass_barriers();
+          };
+          if (ctx.cpu)
+            ctx.cpu->task(body);  // cpu_s counts the threads that helped
+          else
+            body();
+        });
+      };
+      tbb::this_task_arena::isolate([&] {  // while it waits, this thread runs only this trial's rounds
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          for (ForestTree* t : active) start(t);
+        }
+        tasks.wait();
+      });
+      std::lock_guard<std::mutex> lock(mutex);  // happens-before from the last task
+    }
+    if (winner) {
+      Trajectory traj = trajectory_from_tree(sys, *winner->prop, winner->nodes, winner->leaf, winner->p);
+      traj.parameters = winner->p;
+      out.trajectory = std::move(traj);
     }
 
-    // Per-trial results.
+    // Per-trial results, as of the last barrier: a tree that ran ahead of it drops the series
+    // points of its later rounds (their counters are not counted either).
     recount();
     out.counters = total;
     Json per_tree = Json::array();
     for (auto& t : trees) {
-      per_tree.push_back(t->counters.nodes);
-      if (t->grid) record_point(*t);
+      per_tree.push_back(t->at_barrier.counters.nodes);
+      if (t->grid) {
+        if (t->last_round > rounds) {
+          t->coverage_series.points.resize(t->at_barrier.coverage_points);
+          t->growth_series.points.resize(t->at_barrier.growth_points);
+          record_point(*t, t->at_barrier.point);
+        } else {
+          record_point(*t, point_of(*t));
+        }
+      }
       out.series.push_back(std::move(t->coverage_series));
       out.series.push_back(std::move(t->growth_series));
     }
@@ -364,18 +524,76 @@ class Rrft final : public Planner {
         ++t.failed_streak;
         continue;
       }
-      t.grid->add(t.nodes.state(r.node));
       ++added;
-      t.failed_streak = 0;
-      if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
-        t.coverage_series.points.emplace_back(static_cast<double>(t.nodes.size()), t.grid->uncovered());
-        if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
-          t.growth_series.points.emplace_back(static_cast<double>(t.nodes.size()),
-                                              static_cast<double>(t.grid->points()) *
-                                                  t.grid->growth(static_cast<std::size_t>(o_.window)));
-      }
-      if (r.reached_unsafe) t.leaf = r.node;
+      after_add(t, r);
     }
+  }
+
+  // One batched round (batch = B > 1): every active tree's B slots proposed in one parallel_slots
+  // call against the frozen trees, then each tree's slots committed in slot order, at most
+  // `quota` nodes per tree, stopping at the tree's first node with s <= 0.
+  void grow_batched(const PlannerContext& ctx, const SearchBudget& budget, const System& sys,
+                    const WeightedEuclidean& metric, const std::vector<ForestTree*>& active,
+                    const std::vector<std::int64_t>& quota, std::uint64_t round,
+                    std::vector<std::unique_ptr<RrftSlot>>& slots) const {
+    const std::size_t B = o_.batch, n = sys.info().dim();
+    const std::size_t count = active.size() * B;
+    while (slots.size() < count) {
+      slots.push_back(std::make_unique<RrftSlot>(sys, metric));
+      slots.back()->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
+    }
+    parallel_slots(count, ctx.cpu, [&](std::size_t k) {
+      const std::size_t i = k / B, s = k % B;
+      const ForestTree& t = *active[i];
+      RrftSlot& slot = *slots[k];
+      slot.counters = {};
+      slot.proposed = false;
+      slot.interrupted = false;
+      if (quota[i] <= 0 || t.leaf != kNoNode) return;  // nothing this tree may add
+      if (budget.exhausted(0)) return;                  // time or cancellation
+      Rng g(slot_seed(t.stream_seed, round, s));
+      for (std::size_t d = 0; d < n; ++d) {
+        auto axis = t.uniform[d];  // a copy: distributions are not const-callable
+        slot.x_rand[d] = axis(g);
+      }
+      slot.step.propose(t.nodes, t.nn->nearest(slot.x_rand).id, *slot.prop, slot.x_rand, t.p, slot.counters);
+      slot.interrupted = slot.prop->interrupted();
+      slot.proposed = true;
+    });
+    for (std::size_t i = 0; i < active.size(); ++i) {  // commit: trees in seed order, slots in slot order
+      ForestTree& t = *active[i];
+      for (std::size_t s = 0; s < B; ++s) {  // every propagation of the round was made
+        t.counters.propagations += slots[i * B + s]->counters.propagations;
+        t.counters.integration_steps += slots[i * B + s]->counters.integration_steps;
+      }
+      std::int64_t added = 0;
+      for (std::size_t s = 0; s < B && added < quota[i] && t.leaf == kNoNode; ++s) {
+        RrftSlot& slot = *slots[i * B + s];
+        if (!slot.proposed) continue;
+        const RrtExtensionResult r = slot.step.commit(t.nodes, *t.nn, t.counters);
+        if (!r.added()) {
+          if (slot.interrupted) break;  // the deadline passed mid-extension: not a stall
+          ++t.failed_streak;
+          continue;
+        }
+        ++added;
+        after_add(t, r);
+      }
+    }
+  }
+
+  // A new node of tree t: coverage, the failed streak, the series, the found check.
+  void after_add(ForestTree& t, const RrtExtensionResult& r) const {
+    t.grid->add(t.nodes.state(r.node));
+    t.failed_streak = 0;
+    if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
+      t.coverage_series.points.emplace_back(static_cast<double>(t.nodes.size()), t.grid->uncovered());
+      if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
+        t.growth_series.points.emplace_back(static_cast<double>(t.nodes.size()),
+                                            static_cast<double>(t.grid->points()) *
+                                                t.grid->growth(static_cast<std::size_t>(o_.window)));
+    }
+    if (r.reached_unsafe) t.leaf = r.node;
   }
 
   // A terminated tree never wins: free its search structures, keep its counters and series.
@@ -386,6 +604,10 @@ class Rrft final : public Planner {
     t.nodes.clear();
   }
 
+  // Rounds a tree may run ahead of the next barrier (batch = 1): enough to keep every core busy
+  // while one tree's round is slow, few enough that little work is done past the round where
+  // the search ends (it is thrown away).
+  static constexpr std::int64_t kRunAhead = 4;
   RrftOptions o_;
 };
 
@@ -396,14 +618,15 @@ MethodEntry rrft_method() {
           "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
           "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
           {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
-           {"K", 10, "extension attempts per active tree per round (K = 1: the interleaving of Alg. 3)", "[1, 100000]"},
+           {"K", 10, "extension attempts per active tree per round at batch = 1 (K = 1: the interleaving of Alg. 3; batch B > 1: B slots per tree per round)", "[1, 100000]"},
            {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},
            {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min", "[0, 1]"},
            {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min", "[0, 1]"},
            {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled", "[1, 10000000]"},
            {"max_seeds", 64, "at most this many seeds (trees) per trial", "[1, 4096]"},
            {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
-           {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"}},
+           {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"},
+           batch_option()},
           [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
           check_rrft_system};
 }
