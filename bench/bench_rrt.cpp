@@ -18,7 +18,7 @@ namespace {
 std::unique_ptr<Planner> make_rrt() {
   const MethodEntry* method = find_method("rrt");
   if (method == nullptr) throw std::runtime_error("the rrt method is not registered");
-  return method->make(Json::object());
+  return method->make(resolve_options(method->options, {}));
 }
 
 // Budgets only the node cap decides: a benchmark must not end on the wall clock.

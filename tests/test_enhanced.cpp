@@ -328,12 +328,17 @@ TEST(EnhancedRrt, BatchEightIsTheSameAtOneAndTwoThreads) {
     v.emplace_back("batch", "8");
     const auto a = solve_in_arena(1, *thermo, v, 5, 2000), b = solve_in_arena(2, *thermo, v, 5, 2000);
     EXPECT_EQ(full_fingerprint(*thermo, a), full_fingerprint(*thermo, b)) << Json(v).dump();
-    if (a.trajectory) EXPECT_TRUE(validate_witness(*thermo, witness_of(*thermo, *a.trajectory)).valid) << Json(v).dump();
-    else EXPECT_EQ(a.status, TrialStatus::node_cap) << Json(v).dump();
+    if (a.trajectory) {
+      EXPECT_TRUE(validate_witness(*thermo, witness_of(*thermo, *a.trajectory)).valid) << Json(v).dump();
+    } else {
+      EXPECT_EQ(a.status, TrialStatus::node_cap) << Json(v).dump();
+    }
     const auto fa = solve_in_arena(1, *forest, v, 6, 3000), fb = solve_in_arena(2, *forest, v, 6, 3000);
     EXPECT_EQ(full_fingerprint(*forest, fa), full_fingerprint(*forest, fb)) << Json(v).dump();
     EXPECT_EQ(fa.metrics.at("trees").get<int>(), 3);
-    if (fa.trajectory) EXPECT_TRUE(validate_witness(*forest, witness_of(*forest, *fa.trajectory)).valid) << Json(v).dump();
+    if (fa.trajectory) {
+      EXPECT_TRUE(validate_witness(*forest, witness_of(*forest, *fa.trajectory)).valid) << Json(v).dump();
+    }
   }
 }
 

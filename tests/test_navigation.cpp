@@ -587,7 +587,7 @@ TEST(NavigationRrt, FalsifiesASmallInstanceWithAValidWitness) {
   }
   ASSERT_TRUE(pick);
   auto sys = make({{"n", "4"}, {"seed", std::to_string(pick->first)}, {"property", std::to_string(pick->second)}});
-  auto planner = find_method("rrt")->make(Json::object());
+  auto planner = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
   const PlannerContext ctx{*sys, sys->info().parameters, 12345, PlannerLimits{15.0, 200'000}, {}};
   const PlannerOutcome out = planner->solve(ctx);
   ASSERT_EQ(out.status, TrialStatus::falsified) << "nodes " << out.counters.nodes;

@@ -73,12 +73,18 @@ TEST(ResolveOptions, ChecksTypeRangeAndRepetition) {
 void expect_declared(const std::string& owner, const std::vector<OptionSpec>& specs) {
   for (const OptionSpec& s : specs) {
     SCOPED_TRACE(owner + " " + s.key);
-    if (!s.default_value.is_boolean()) EXPECT_FALSE(s.range.empty()) << "no range declared";
+    if (!s.default_value.is_boolean()) {
+      EXPECT_FALSE(s.range.empty()) << "no range declared";
+    }
     ValueRange r;
     ASSERT_NO_THROW(r = ValueRange::parse(s.range));
     EXPECT_TRUE(r.contains(s.default_value)) << "default " << s.default_value.dump() << " outside " << s.range;
-    if (r.kind == ValueRange::Kind::choices) EXPECT_TRUE(s.default_value.is_string());
-    if (r.kind == ValueRange::Kind::interval) EXPECT_TRUE(s.default_value.is_number());
+    if (r.kind == ValueRange::Kind::choices) {
+      EXPECT_TRUE(s.default_value.is_string());
+    }
+    if (r.kind == ValueRange::Kind::interval) {
+      EXPECT_TRUE(s.default_value.is_number());
+    }
   }
 }
 

@@ -23,7 +23,7 @@ Witness witness_of(const System& sys, Trajectory t) { return make_witness(sys, "
 
 PlannerOutcome solve_thermostat(std::uint64_t seed) {
   auto sys = thermostat();
-  auto planner = find_method("rrt")->make(Json::object());
+  auto planner = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
   const PlannerContext ctx{*sys, sys->info().parameters, seed, PlannerLimits{60.0, 200000}, {}};
   return planner->solve(ctx);
 }
@@ -97,7 +97,7 @@ std::vector<TrialJob> thermostat_jobs(int n, const MethodEntry* method) {
     j.key = {"test", "thermostat", sys->info().instance.dump(), method->name, "{}", i};
     j.system = sys;
     j.method = method;
-    j.method_options = Json::object();
+    j.method_options = resolve_options(method->options, {});
     j.limits = {60.0, 200000};
     j.seed = trial_seed(42, j.key.suite, j.key.instance, j.key.method, i);
     jobs.push_back(std::move(j));
@@ -175,7 +175,7 @@ TEST(TrialEngine, AFailingTrialIsRecordedAndTheRunGoesOn) {
 
 TEST(TrialEngine, NodeCapAndTimeoutAreReported) {
   auto sys = thermostat();
-  auto planner = find_method("rrt")->make(Json::object());
+  auto planner = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
   const PlannerContext capped{*sys, {}, 1, PlannerLimits{60.0, 50}, {}};
   const auto out = planner->solve(capped);
   EXPECT_EQ(out.status, TrialStatus::node_cap);

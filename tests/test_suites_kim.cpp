@@ -34,7 +34,7 @@ void expect_near(const std::vector<double>& a, const std::vector<double>& b, dou
 }
 
 PlannerOutcome run_rrt(const System& sys, std::uint64_t seed, double timeout, std::int64_t max_nodes) {
-  auto planner = find_method("rrt")->make(Json::object());
+  auto planner = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
   const PlannerContext ctx{sys, sys.info().parameters, seed, PlannerLimits{timeout, max_nodes}, {}};
   return planner->solve(ctx);
 }

@@ -58,7 +58,7 @@ TrialJob make_job(const MethodEntry* method, int index, double timeout_s) {
   j.key = {"engine-test", "thermostat", sys->info().instance.dump(), method->name, "{}", index};
   j.system = sys;
   j.method = method;
-  j.method_options = Json::object();
+  j.method_options = resolve_options(method->options, {});
   j.limits = {timeout_s, 200000};
   j.seed = trial_seed(42, j.key.suite, j.key.instance, j.key.method, index);
   return j;
