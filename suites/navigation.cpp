@@ -447,6 +447,9 @@ class NavigationDecomposition final : public Decomposition {
     const std::uint32_t h = hops_[r / kG2];
     return h == kFar ? std::numeric_limits<double>::infinity() : static_cast<double>(h);
   }
+  // Ids q g^2 + cell are dense over all modes: the planner's per-region data live in arrays.
+  std::uint64_t dense_size() const override { return static_cast<std::uint64_t>(maze_->terrains()) * kG2; }
+  std::uint64_t dense_index(RegionId r) const override { return r; }
 
  private:
   static constexpr RegionId kG2 = static_cast<RegionId>(kRegionGrid) * kRegionGrid;

@@ -80,45 +80,86 @@ double hydice_selection_weight(const HydiceExponents& e, double vol, double cov,
   return power(vol, e.nu) / (power(t, e.tau) * power(cov, e.zeta));
 }
 
-std::size_t LeadSearch::slot_of(RegionId r) {
-  std::size_t mask = table_.size() - 1;
-  std::size_t i = static_cast<std::size_t>(splitmix64(r)) & mask;
-  while (true) {
-    Slot& sl = table_[i];
-    if (sl.stamp != stamp_) {  // empty in this search: claim it
-      sl.stamp = stamp_;
-      sl.region = r;
-      sl.entry = static_cast<std::uint32_t>(entries_.size());
-      entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, false});
-      if (2 * entries_.size() > table_.size()) {  // keep the load below 1/2
-        grow();
-        return entries_.size() - 1;
-      }
-      return sl.entry;
-    }
-    if (sl.region == r) return sl.entry;
-    i = (i + 1) & mask;
+void RegionSlots::attach(const Decomposition& d) {
+  if (dec_ != &d || dense_size_ != d.dense_size()) {
+    dec_ = &d;
+    dense_size_ = d.dense_size();
+    dense_ = d.dense_size() > 0;
+    pages_.clear();
+    table_.clear();
+    if (dense_) pages_.resize(static_cast<std::size_t>((d.dense_size() + kPageMask) >> kPageBits));
+    // Open addressing starts at 2^12 slots (64 KB) and doubles at load 1/2: the start only saves
+    // the first few doublings (a navigation lead search touches 10^3-10^6 regions).
+    else table_.assign(std::size_t{1} << 12, HashSlot{});
+  }
+  clear();
+}
+
+void RegionSlots::clear() {
+  live_ = 0;
+  if (++stamp_ != 0) return;
+  // The stamp wrapped (after 2^32 clears): forget every stale stamp so none can match again.
+  for (auto& page : pages_)
+    if (page) std::fill(page.get(), page.get() + (kPageMask + 1), DenseCell{});
+  std::fill(table_.begin(), table_.end(), HashSlot{});
+  stamp_ = 1;
+}
+
+std::unique_ptr<RegionSlots::DenseCell[]> RegionSlots::new_page() const {
+  return std::make_unique<DenseCell[]>(kPageMask + 1);  // stamp 0: never the current one
+}
+
+std::uint32_t RegionSlots::find(RegionId r) const {
+  if (dense_) {
+    const std::uint64_t i = dec_->dense_index(r);
+    const auto& page = pages_[i >> kPageBits];
+    if (!page) return kNone;
+    const DenseCell& c = page[i & kPageMask];
+    return c.stamp == stamp_ ? c.value : kNone;
+  }
+  if (table_.empty()) return kNone;
+  const std::size_t mask = table_.size() - 1;
+  for (std::size_t i = static_cast<std::size_t>(splitmix64(r)) & mask;; i = (i + 1) & mask) {
+    const HashSlot& sl = table_[i];
+    if (sl.stamp != stamp_) return kNone;
+    if (sl.region == r) return sl.value;
   }
 }
 
-void LeadSearch::grow() {
-  std::vector<Slot> old;
-  old.swap(table_);
-  table_.assign(old.size() * 2, Slot{});
-  ++stamp_;
+std::uint32_t RegionSlots::hashed_find_or_insert(RegionId r, std::uint32_t value, bool& fresh) {
   const std::size_t mask = table_.size() - 1;
-  for (std::uint32_t k = 0; k < entries_.size(); ++k) {
-    std::size_t i = static_cast<std::size_t>(splitmix64(entries_[k].region)) & mask;
+  for (std::size_t i = static_cast<std::size_t>(splitmix64(r)) & mask;; i = (i + 1) & mask) {
+    HashSlot& sl = table_[i];
+    if (sl.stamp != stamp_) {  // empty in this generation: claim it
+      sl = HashSlot{r, value, stamp_};
+      fresh = true;
+      if (2 * ++live_ > table_.size()) grow();  // keep the load below 1/2
+      return value;
+    }
+    if (sl.region == r) {
+      fresh = false;
+      return sl.value;
+    }
+  }
+}
+
+void RegionSlots::grow() {
+  std::vector<HashSlot> old;
+  old.swap(table_);
+  table_.assign(old.size() * 2, HashSlot{});
+  const std::size_t mask = table_.size() - 1;
+  for (const HashSlot& sl : old) {
+    if (sl.stamp != stamp_) continue;
+    std::size_t i = static_cast<std::size_t>(splitmix64(sl.region)) & mask;
     while (table_[i].stamp == stamp_) i = (i + 1) & mask;
-    table_[i] = Slot{entries_[k].region, k, stamp_};
+    table_[i] = sl;
   }
 }
 
 std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const RegionId> starts,
                                        const std::function<double(RegionId)>& weight, Rng* rng,
                                        double heuristic_edge_cost, std::size_t max_expanded) {
-  if (table_.empty()) table_.assign(1 << 12, Slot{});
-  ++stamp_;
+  slots_.attach(d);
   entries_.clear();
   expanded_ = 0;
   // A*: ordered by f = dist + h, ties to the smaller h (the deeper region), h = hops_to_unsafe
@@ -137,9 +178,9 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
   for (RegionId s : starts) {
     const double hs = h_of(s);
     if (std::isinf(hs)) continue;
-    const std::size_t before = entries_.size();
-    const std::size_t k = slot_of(s);
-    if (entries_.size() == before) continue;  // a duplicate start
+    bool fresh;
+    const std::uint32_t k = entry_of(s, fresh);
+    if (!fresh) continue;  // a duplicate start
     entries_[k].h = hs;
     push(Item{hs, hs, static_cast<std::uint32_t>(k)});
   }
@@ -166,9 +207,8 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     d.neighbors(r, nb_);
     const double wr = rng ? 0.0 : w_of(k);
     for (RegionId s : nb_) {
-      const std::size_t before = entries_.size();
-      const std::size_t j = slot_of(s);
-      const bool fresh = entries_.size() != before;
+      bool fresh;
+      const std::uint32_t j = entry_of(s, fresh);
       if (fresh) {
         entries_[j].h = h_of(s);
       } else if (entries_[j].done) {
@@ -319,7 +359,12 @@ class Hydice final : public Planner {
     const double cell = dec->cell_size();
 
     NodeStore tree(n, m);
-    std::unordered_map<RegionId, RegionData> regions;
+    // The reached regions' data, indexed through a RegionSlots (dense arrays on a dense
+    // decomposition: the lead weight is read for every region the lead search touches).
+    RegionSlots region_slot;
+    region_slot.attach(*dec);
+    std::vector<RegionData> regions;
+    auto region = [&](RegionId r) -> RegionData& { return regions[region_slot.find(r)]; };
     std::unordered_map<CellKey, std::uint32_t, CellKeyHash> cell_index;
     std::vector<Cell> cells;
     std::vector<RegionId> avail;  // D_avail
@@ -332,9 +377,10 @@ class Hydice final : public Planner {
       const NodeId id = tree.add(parent, edge_mode, mode, x, u, duration, transition);
       ++c.nodes;
       const RegionId r = dec->region_of(mode, x);
-      auto [rit, fresh] = regions.try_emplace(r);
-      RegionData& rd = rit->second;
-      if (fresh) rd.volume = dec->volume(r);
+      bool fresh;
+      const std::uint32_t ri = region_slot.find_or_insert(r, static_cast<std::uint32_t>(regions.size()), fresh);
+      if (fresh) regions.emplace_back().volume = dec->volume(r);
+      RegionData& rd = regions[ri];
       double pr[2];
       dec->project(mode, x, std::span<double, 2>(pr, 2));
       const CellKey key{r, static_cast<std::int64_t>(std::floor(pr[0] / cell)),
@@ -366,13 +412,13 @@ class Hydice final : public Planner {
     }
 
     auto lead_weight = [&](RegionId r) {
-      auto it = regions.find(r);
-      if (it == regions.end()) return power(dec->volume(r), o_.e.nu);  // not reached: cov = t = 1
-      const RegionData& rd = it->second;
+      const std::uint32_t ri = region_slot.find(r);
+      if (ri == RegionSlots::kNone) return power(dec->volume(r), o_.e.nu);  // not reached: cov = t = 1
+      const RegionData& rd = regions[ri];
       return hydice_lead_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
                                 1.0 + static_cast<double>(rd.propagations));
     };
-    auto reached = [&](RegionId r) { return regions.count(r) != 0; };
+    auto reached = [&](RegionId r) { return region_slot.find(r) != RegionSlots::kNone; };
     // The cost of a G_D edge between two regions not reached yet (the start region's volume):
     // the A* heuristic's cost per hop.
     const double unreached_edge_cost = 1.0 / std::pow(std::pow(dec->volume(start_regions.front()), o_.e.nu), 2.0);
@@ -421,9 +467,9 @@ class Hydice final : public Planner {
         lead_position.clear();
         for (std::size_t i = 0; i < lead.size(); ++i) lead_position.emplace(lead[i], i);
         current_lead.swap(lead);
-        for (RegionId r : avail) regions.at(r).available = false;
+        for (RegionId r : avail) region(r).available = false;
         avail = hydice_available(current_lead, reached, rng);
-        for (RegionId r : avail) regions.at(r).available = true;
+        for (RegionId r : avail) region(r).available = true;
         // t_σ: at least t_sigma propagations, more when the lead search was long, so that the
         // discrete search keeps a bounded share of the time (the paper's t_σ is wall time).
         expansions += static_cast<std::int64_t>(lead_search.expanded());
@@ -434,12 +480,12 @@ class Hydice final : public Planner {
         if (k > 0 && k % 16 == 0 && budget.exhausted(c.nodes)) break;
         wsel.resize(avail.size());
         for (std::size_t i = 0; i < avail.size(); ++i) {
-          const RegionData& rd = regions.at(avail[i]);
+          const RegionData& rd = region(avail[i]);
           wsel[i] = hydice_selection_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
                                             1.0 + static_cast<double>(rd.propagations));
         }
         const RegionId selected = avail[hydice_pick_weighted(wsel, rng)];
-        RegionData& rd = regions.at(selected);
+        RegionData& rd = region(selected);
         cell_sel.resize(rd.cells.size());
         for (std::size_t i = 0; i < rd.cells.size(); ++i) cell_sel[i] = cells[rd.cells[i]].selections;
         Cell& cl = cells[rd.cells[hydice_pick_cell(cell_sel, rng)]];

@@ -4,6 +4,8 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -35,8 +37,59 @@ std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const Region
                                   const std::function<double(RegionId)>& weight, Rng* rng,
                                   double heuristic_edge_cost = 0.0, std::size_t max_expanded = 50'000'000);
 
-// The lead search with its workspace kept between leads (an open-addressing table of the
-// regions touched, reset in O(1) by a stamp; a binary heap): no allocation per lead once warm.
+// RegionId -> uint32 map for the per-region data of the lead search and the planner. With a
+// dense decomposition (Decomposition::dense_size() > 0) a paged flat array indexed by
+// dense_index(r): pages of 2^kPageBits indices, allocated when first touched, so that memory
+// follows the regions touched rather than |V_D| (67 M regions at navigation 4096²); otherwise
+// open addressing on splitmix64(r) with load <= 1/2. clear() is O(1): an entry is live only
+// when it carries the stamp of the current generation.
+class RegionSlots {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  // Chooses the layout for d's ids and clears; a no-op (beyond clear) when d is the one attached.
+  void attach(const Decomposition& d);
+  void clear();
+  std::uint32_t find(RegionId r) const;  // kNone when absent
+  // The value of r; when r is absent, `value` is inserted for it and `fresh` set.
+  std::uint32_t find_or_insert(RegionId r, std::uint32_t value, bool& fresh) {
+    if (dense_) {
+      const std::uint64_t i = dec_->dense_index(r);
+      std::unique_ptr<DenseCell[]>& page = pages_[i >> kPageBits];
+      if (!page) page = new_page();
+      DenseCell& c = page[i & kPageMask];
+      fresh = c.stamp != stamp_;
+      if (fresh) c = DenseCell{value, stamp_};
+      return c.value;
+    }
+    return hashed_find_or_insert(r, value, fresh);
+  }
+
+ private:
+  // 2^12 indices (32 KB) a page: navigation's ids run row-major over the terrains (4 per
+  // terrain), so a page is a strip of 1024 terrains, and the page table at 4096² has 16 k entries.
+  static constexpr unsigned kPageBits = 12;
+  static constexpr std::uint64_t kPageMask = (std::uint64_t{1} << kPageBits) - 1;
+  struct DenseCell {
+    std::uint32_t value = 0, stamp = 0;
+  };
+  struct HashSlot {
+    RegionId region = 0;
+    std::uint32_t value = 0, stamp = 0;
+  };
+  std::unique_ptr<DenseCell[]> new_page() const;
+  std::uint32_t hashed_find_or_insert(RegionId r, std::uint32_t value, bool& fresh);
+  void grow();
+  const Decomposition* dec_ = nullptr;
+  std::uint64_t dense_size_ = 0;
+  bool dense_ = false;
+  std::vector<std::unique_ptr<DenseCell[]>> pages_;
+  std::vector<HashSlot> table_;
+  std::size_t live_ = 0;  // live entries of the hash table
+  std::uint32_t stamp_ = 1;
+};
+
+// The lead search with its workspace kept between leads (the regions touched indexed by a
+// RegionSlots, reset in O(1); a binary heap): no allocation per lead once warm.
 class LeadSearch {
  public:
   // As hydice_lead.
@@ -53,11 +106,6 @@ class LeadSearch {
     std::uint32_t parent;
     bool done;
   };
-  struct Slot {
-    RegionId region = 0;
-    std::uint32_t entry = 0;
-    std::uint32_t stamp = 0;
-  };
   struct OpenItem {  // A* queue entry: f = dist + h, ties to the smaller h (deeper)
     double f, h;
     std::uint32_t entry;
@@ -65,13 +113,16 @@ class LeadSearch {
       return f > o.f || (f == o.f && (h > o.h || (h == o.h && entry > o.entry)));
     }
   };
-  std::size_t slot_of(RegionId r);  // the entry of r, created (dist 0, no parent) when new
-  void grow();
-  std::vector<Slot> table_;
+  // The entry of r, created (dist 0, no parent, weight not computed) when new; `fresh` says so.
+  std::uint32_t entry_of(RegionId r, bool& fresh) {
+    const std::uint32_t k = slots_.find_or_insert(r, static_cast<std::uint32_t>(entries_.size()), fresh);
+    if (fresh) entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, false});
+    return k;
+  }
+  RegionSlots slots_;
   std::vector<Entry> entries_;
   std::vector<OpenItem> open_;
   std::vector<RegionId> nb_;
-  std::uint32_t stamp_ = 0;
   std::size_t expanded_ = 0;
 };
 
