@@ -169,11 +169,55 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     if (std::isinf(hops)) return hops;
     return heuristic_edge_cost > 0.0 ? heuristic_edge_cost * hops : 0.0;
   };
-  using Item = OpenItem;
   open_.clear();
-  auto push = [&](Item it) {
-    open_.push_back(it);
-    std::push_heap(open_.begin(), open_.end(), std::greater<>{});
+  // The open list is an indexed 4-ary heap with decrease-key: each queued region has exactly
+  // one item holding its current f, so the pops come out in the same order as the lazy binary
+  // heap this replaced (the order (f, h, entry) is total: h is fixed per entry, and an entry's
+  // f only ever strictly decreases), with no stale items and a shallower heap.
+  auto place = [&](std::size_t i, const OpenItem& it) {
+    open_[i] = it;
+    entries_[it.entry].heap_pos = static_cast<std::uint32_t>(i);
+  };
+  auto sift_up = [&](std::size_t i, OpenItem it) {
+    while (i > 0) {
+      const std::size_t parent = (i - 1) / 4;
+      if (!(open_[parent] > it)) break;
+      place(i, open_[parent]);
+      i = parent;
+    }
+    place(i, it);
+  };
+  auto pop_min = [&]() {
+    const std::uint32_t top = open_[0].entry;
+    const OpenItem last = open_.back();
+    open_.pop_back();
+    const std::size_t n = open_.size();
+    if (n > 0) {
+      std::size_t i = 0;
+      while (true) {
+        const std::size_t first = 4 * i + 1;
+        if (first >= n) break;
+        std::size_t best = first;
+        const std::size_t end = std::min(first + 4, n);
+        for (std::size_t c = first + 1; c < end; ++c)
+          if (open_[best] > open_[c]) best = c;
+        if (!(last > open_[best])) break;
+        place(i, open_[best]);
+        i = best;
+      }
+      place(i, last);
+    }
+    entries_[top].heap_pos = kNotQueued;
+    return top;
+  };
+  auto push = [&](const OpenItem& it) {  // a new item, or a smaller f for a queued entry
+    const std::uint32_t at = entries_[it.entry].heap_pos;
+    if (at == kNotQueued) {
+      open_.push_back(it);
+      sift_up(open_.size() - 1, it);
+    } else {
+      sift_up(at, it);
+    }
   };
   for (RegionId s : starts) {
     const double hs = h_of(s);
@@ -182,7 +226,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     const std::uint32_t k = entry_of(s, fresh);
     if (!fresh) continue;  // a duplicate start
     entries_[k].h = hs;
-    push(Item{hs, hs, static_cast<std::uint32_t>(k)});
+    push(OpenItem{hs, hs, k});
   }
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto w_of = [&](std::size_t k) {
@@ -190,10 +234,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     return entries_[k].w;
   };
   while (!open_.empty()) {
-    std::pop_heap(open_.begin(), open_.end(), std::greater<>{});
-    const std::uint32_t k = open_.back().entry;
-    open_.pop_back();
-    if (entries_[k].done) continue;
+    const std::uint32_t k = pop_min();
     entries_[k].done = true;
     const RegionId r = entries_[k].region;
     const double dist = entries_[k].dist;
@@ -220,7 +261,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
       if (!fresh && !(nd < entries_[j].dist)) continue;
       entries_[j].dist = nd;
       entries_[j].parent = k;
-      push(Item{nd + entries_[j].h, entries_[j].h, static_cast<std::uint32_t>(j)});
+      push(OpenItem{nd + entries_[j].h, entries_[j].h, j});
     }
   }
   return {};

@@ -89,7 +89,7 @@ class RegionSlots {
 };
 
 // The lead search with its workspace kept between leads (the regions touched indexed by a
-// RegionSlots, reset in O(1); a binary heap): no allocation per lead once warm.
+// RegionSlots, reset in O(1); an indexed 4-ary heap): no allocation per lead once warm.
 class LeadSearch {
  public:
   // As hydice_lead.
@@ -100,10 +100,12 @@ class LeadSearch {
 
  private:
   static constexpr std::uint32_t kNoParent = 0xffffffffu;
+  static constexpr std::uint32_t kNotQueued = 0xffffffffu;
   struct Entry {
     RegionId region;
     double dist, w, h;
     std::uint32_t parent;
+    std::uint32_t heap_pos;  // index in open_, kNotQueued when not queued
     bool done;
   };
   struct OpenItem {  // A* queue entry: f = dist + h, ties to the smaller h (deeper)
@@ -116,7 +118,7 @@ class LeadSearch {
   // The entry of r, created (dist 0, no parent, weight not computed) when new; `fresh` says so.
   std::uint32_t entry_of(RegionId r, bool& fresh) {
     const std::uint32_t k = slots_.find_or_insert(r, static_cast<std::uint32_t>(entries_.size()), fresh);
-    if (fresh) entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, false});
+    if (fresh) entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, kNotQueued, false});
     return k;
   }
   RegionSlots slots_;
