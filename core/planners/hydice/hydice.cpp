@@ -246,6 +246,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     }
     if (++expanded_ > max_expanded) break;
     d.neighbors(r, nb_);
+    for (RegionId s : nb_) slots_.prefetch(s);
     const double wr = rng ? 0.0 : w_of(k);
     for (RegionId s : nb_) {
       bool fresh;
