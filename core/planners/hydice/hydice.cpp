@@ -49,6 +49,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <queue>
 #include <random>
 #include <stdexcept>
@@ -57,6 +59,8 @@
 #include <fmt/format.h>
 
 #include "core/inputs.hpp"
+#include "core/parallel_slots.hpp"
+#include "core/planners/rrt/rrt_extension.hpp"
 #include "core/tree.hpp"
 
 namespace hyfal {
@@ -287,26 +291,45 @@ std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
   return avail;
 }
 
-std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng) {
+namespace {
+// Index i in [0, count) drawn with probability ∝ weight(i) (>= 0, some > 0): one uniform draw
+// on [0, Σ w), then the first i whose cumulative weight passes it. The weights are evaluated
+// twice (sum, walk) instead of stored, so that no buffer is allocated per draw; both passes
+// compute the same doubles in the same order, so the pick is the stored-vector pick exactly.
+template <class Weight>
+std::size_t pick_weighted_by(std::size_t count, Weight&& weight, Rng& rng) {
   double total = 0.0;
-  for (double x : w) total += x;
+  for (std::size_t i = 0; i < count; ++i) total += weight(i);
   double r = std::uniform_real_distribution<double>(0.0, total)(rng);
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    if (r < w[i]) return i;
-    r -= w[i];
+  for (std::size_t i = 0; i < count; ++i) {
+    const double w = weight(i);
+    if (r < w) return i;
+    r -= w;
   }
-  for (std::size_t i = w.size(); i-- > 0;)  // rounding: the last positive weight
-    if (w[i] > 0.0) return i;
+  for (std::size_t i = count; i-- > 0;)  // rounding: the last positive weight
+    if (weight(i) > 0.0) return i;
   return 0;
 }
 
+// A coverage cell ∝ 1/nsel² (Sect. 3.3.2), nsel = selections(i) + 1.
+template <class Selections>
+std::size_t pick_by_inverse_square(std::size_t count, Selections&& selections, Rng& rng) {
+  return pick_weighted_by(
+      count,
+      [&](std::size_t i) {
+        const double n = 1.0 + selections(i);
+        return 1.0 / (n * n);
+      },
+      rng);
+}
+}  // namespace
+
+std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng) {
+  return pick_weighted_by(w.size(), [&](std::size_t i) { return w[i]; }, rng);
+}
+
 std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng) {
-  std::vector<double> w(selections.size());
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    const double n = 1.0 + selections[i];
-    w[i] = 1.0 / (n * n);
-  }
-  return hydice_pick_weighted(w, rng);
+  return pick_by_inverse_square(selections.size(), [&](std::size_t i) { return selections[i]; }, rng);
 }
 
 namespace {
@@ -324,6 +347,7 @@ struct HydiceOptions {
   double shortest_probability;
   double lead_heuristic;
   std::int64_t controls;
+  std::int64_t batch;
   enum class Inputs { automatic, set, box } inputs;
   HydiceExponents e;
 };
@@ -336,6 +360,7 @@ HydiceOptions parse_options(const Json& o, bool leads) {
   h.e.zeta = o.at("zeta").get<double>();
   h.e.tau = o.at("tau").get<double>();
   h.controls = o.at("controls").get<std::int64_t>();
+  h.batch = o.at("batch").get<std::int64_t>();
   const std::string inputs = o.at("inputs").get<std::string>();
   if (inputs == "auto") h.inputs = HydiceOptions::Inputs::automatic;
   else if (inputs == "set") h.inputs = HydiceOptions::Inputs::set;
@@ -380,211 +405,395 @@ struct RegionData {
   bool available = false;
 };
 
+// The lead / availability layer of Alg. 2 (OMPL's Syclop::solve): the tree, the reached regions
+// with their estimates t(D) and cov(D) and coverage cells, D_avail, the current lead, and the
+// outer loop (a lead, then a motion-planning step of t_σ propagations). It stays fixed; the
+// motion step that grows the tree along the lead varies (SequentialStep, BatchStep below), as
+// Syclop's subclasses implement selectAndExtend. The motion step is split into its three phases
+// so that a batch can run them apart: draw (Alg. 2:9-10 and Alg. 3:1: region, cell, state,
+// inputs; uses the RNG), propagate (Alg. 3: reads the frozen tree, writes only its own scratch),
+// commit (Alg. 2:12-14: counts, the new node, the witness).
+class HydiceSearch {
+ public:
+  // What one motion step drew: the selected region (an index into regions_), state and inputs.
+  struct Draw {
+    std::uint32_t region = 0;
+    NodeId s = 0;
+    Mode q = 0;
+    std::array<double, 2> target{std::numeric_limits<double>::quiet_NaN(), 0.0};  // steering (NaN: none)
+    std::vector<double> inputs;  // `controls` inputs, m each
+  };
+  // What its propagations produced: the kept end state (the nearest to the steering target; a
+  // witness wins) and the counts.
+  struct Outcome {
+    bool any = false;  // some propagation made progress (RrtExtension::makes_progress)
+    PropagationResult r;
+    std::vector<double> x, u, x_try;
+    std::int64_t propagations = 0, integration_steps = 0;
+  };
+
+  HydiceSearch(const HydiceOptions& o, const PlannerContext& ctx, PlannerOutcome& out)
+      : o_(o),
+        ctx_(ctx),
+        sys_(ctx.system),
+        info_(sys_.info()),
+        dec_(sys_.decomposition()),
+        out_(out),
+        c_(out.counters),
+        m_(info_.input_names.size()),
+        prop_(sys_.make_propagator()),
+        budget_(ctx),
+        rng_(ctx.seed),
+        cell_(dec_->cell_size()),
+        tree_(info_.dim(), m_),
+        draw_box_(o.inputs == HydiceOptions::Inputs::box ||
+                  (o.inputs == HydiceOptions::Inputs::automatic && info_.continuous_random_inputs)),
+        grid_(sys_),
+        ulo_(m_),
+        uhi_(m_) {
+    prop_->set_interrupt(budget_.interrupt());  // a propagation past the deadline ends as rejected
+    region_slot_.attach(*dec_);
+    std::vector<std::vector<double>> starts{info_.initial_state};
+    for (const auto& x0 : info_.other_initial_states) starts.push_back(x0);
+    for (const auto& x0 : starts) {
+      const NodeId id = add_node(kNoNode, info_.initial_mode, info_.initial_mode, x0, {}, 0.0, -1);
+      start_regions_.push_back(dec_->region_of(info_.initial_mode, x0));
+      if (!out_.trajectory && sys_.spec(info_.initial_mode, x0, ctx.parameters) <= 0.0) finish(id);
+    }
+    // The A* heuristic's cost per hop: the cost 1/(w_a w_b) of a G_D edge between two regions not
+    // reached yet (cov = t = 1), at the start region's volume. See the header: exact per hop on
+    // unreached ground, a deliberate overestimate inside a well-covered tree.
+    unreached_edge_cost_ = 1.0 / std::pow(std::pow(dec_->volume(start_regions_.front()), o_.e.nu), 2.0);
+  }
+
+  // Alg. 2's outer loop: while the budget lasts, a lead (Alg. 2:6) and a motion-planning step of
+  // t_σ motion steps along it (Alg. 2:7-14); HyDICE[NoLeads] has one step for the whole budget.
+  template <class MotionStep>
+  void run(MotionStep& step) {
+    while (!out_.trajectory) {
+      if (auto why = budget_.exhausted(c_.nodes)) {
+        out_.status = *why;
+        break;
+      }
+      std::int64_t steps = std::numeric_limits<std::int64_t>::max();
+      if (o_.leads) {
+        const auto t_sigma = next_lead();
+        if (!t_sigma) break;
+        steps = *t_sigma;
+      }
+      step.grow(*this, steps);
+    }
+    out_.metrics["regions_reached"] = regions_.size();
+    out_.metrics["coverage_cells"] = cells_.size();
+    if (o_.leads) {
+      out_.metrics["leads"] = leads_;
+      out_.metrics["random_leads"] = random_leads_;
+      out_.metrics["failed_leads"] = failed_leads_;
+      out_.metrics["lead_expansions"] = expansions_;
+      out_.metrics["random_lead_expansions"] = random_expansions_;
+    }
+  }
+
+  // Alg. 2:6 — the lead (Sect. 3.2.3) and D_avail (Sect. 3.3.1). Returns t_σ in motion steps,
+  // or nothing when no unsafe region is reachable in G_D at all (status not_found).
+  std::optional<std::int64_t> next_lead() {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    ++leads_;
+    std::vector<RegionId> lead;
+    if (unit(rng_) < o_.shortest_probability) {
+      const auto weight = [this](RegionId r) { return lead_weight(r); };
+      lead = lead_search_.find(*dec_, start_regions_, weight, nullptr, o_.lead_heuristic * unreached_edge_cost_);
+    } else {
+      ++random_leads_;
+      lead = lead_search_.find(*dec_, start_regions_, {}, &rng_, o_.lead_heuristic * 1.0);
+      random_expansions_ += static_cast<std::int64_t>(lead_search_.expanded());
+    }
+    if (lead.empty()) {
+      ++failed_leads_;
+      if (failed_leads_ == 1 && leads_ == 1) {  // no unsafe region reachable in G_D at all
+        out_.status = TrialStatus::not_found;
+        return std::nullopt;
+      }
+      lead = start_regions_;
+    }
+    lead_position_.clear();
+    for (std::size_t i = 0; i < lead.size(); ++i) lead_position_.emplace(lead[i], i);
+    current_lead_.swap(lead);
+    for (RegionId r : avail_) region(r).available = false;
+    avail_ = hydice_available(current_lead_, [this](RegionId r) { return reached(r); }, rng_);
+    for (RegionId r : avail_) region(r).available = true;
+    // t_σ: at least t_sigma propagations, more when the lead search was long, so that the
+    // discrete search keeps a bounded share of the time (the paper's t_σ is wall time).
+    expansions_ += static_cast<std::int64_t>(lead_search_.expanded());
+    return std::max<std::int64_t>(o_.t_sigma,
+                                  static_cast<std::int64_t>(lead_search_.expanded()) / kExpansionsPerPropagation);
+  }
+
+  // w_sel of every region of D_avail (Sect. 3.3.1), as the estimates stand now.
+  void selection_weights(std::vector<double>& wsel) const {
+    wsel.resize(avail_.size());
+    for (std::size_t i = 0; i < avail_.size(); ++i) {
+      const RegionData& rd = regions_[region_slot_.find(avail_[i])];
+      wsel[i] = hydice_selection_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
+                                        1.0 + static_cast<double>(rd.propagations));
+    }
+  }
+
+  // Alg. 2:9-10 and Alg. 3:1 — a region of D_avail by `wsel`, a coverage cell of it ∝ 1/nsel²
+  // (its selection counted now), a state of the cell uniformly, then the inputs: `controls`
+  // draws uniformly from the admissible box at x_s (the driver) or from Ū, and, with
+  // controls > 1, the steering target. The order of the draws is the sequential algorithm's.
+  void draw(Rng& g, std::span<const double> wsel, Draw& d) {
+    const RegionId selected = avail_[hydice_pick_weighted(wsel, g)];
+    d.region = region_slot_.find(selected);
+    const RegionData& rd = regions_[d.region];
+    const std::size_t ci = pick_by_inverse_square(
+        rd.cells.size(), [&](std::size_t i) { return cells_[rd.cells[i]].selections; }, g);
+    Cell& cl = cells_[rd.cells[ci]];
+    ++cl.selections;
+    d.s = cl.nodes[std::uniform_int_distribution<std::size_t>(0, cl.nodes.size() - 1)(g)];
+    d.q = tree_.info(d.s).mode;
+    const auto x_s = tree_.state(d.s);
+    if (draw_box_) sys_.input_bounds(d.q, x_s, ulo_, uhi_);
+    else grid_.at(d.q, x_s);
+    d.target = {std::numeric_limits<double>::quiet_NaN(), 0.0};
+    if (o_.controls > 1) d.target = steering_target(selected, g);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    d.inputs.resize(static_cast<std::size_t>(o_.controls) * m_);
+    for (std::int64_t j = 0; j < o_.controls; ++j) {
+      double* u = d.inputs.data() + static_cast<std::size_t>(j) * m_;
+      if (draw_box_) {
+        for (std::size_t i = 0; i < m_; ++i) u[i] = ulo_[i] + unit(g) * (uhi_[i] - ulo_[i]);
+      } else {
+        const auto gi = grid_.input(std::uniform_int_distribution<std::size_t>(0, grid_.count() - 1)(g));
+        std::copy(gi.begin(), gi.end(), u);
+      }
+    }
+  }
+
+  // Alg. 3 (PropagateForward) for each drawn input, from x_s for the suite's δt; keeps the end
+  // state nearest (on the projection) to the steering target, a witness first. Reads the tree
+  // and the decomposition only: slots of a batch run it concurrently, each with its propagator.
+  void propagate(Propagator& prop, const Draw& d, Outcome& o) const {
+    const std::size_t n = info_.dim();
+    o.x.resize(n);
+    o.x_try.resize(n);
+    o.u.resize(m_);
+    o.any = false;
+    o.propagations = o.integration_steps = 0;
+    const auto x_s = tree_.state(d.s);
+    double best = std::numeric_limits<double>::infinity();
+    for (std::int64_t j = 0; j < o_.controls; ++j) {
+      const std::span<const double> u(d.inputs.data() + static_cast<std::size_t>(j) * m_, m_);
+      const PropagationResult r = prop.propagate(d.q, x_s, u, ctx_.parameters, info_.step_duration, o.x_try);
+      ++o.propagations;
+      o.integration_steps += r.steps;
+      if (!RrtExtension::makes_progress(r)) continue;
+      double score = 0.0;
+      if (!std::isnan(d.target[0])) {
+        double pr[2];
+        dec_->project(r.mode, o.x_try, std::span<double, 2>(pr, 2));
+        score = std::hypot(pr[0] - d.target[0], pr[1] - d.target[1]);
+      }
+      if (RrtExtension::reached_unsafe(r)) score = -1.0;  // a witness wins
+      if (score < best) {
+        best = score;
+        o.r = r;
+        o.x.swap(o.x_try);
+        std::copy(u.begin(), u.end(), o.u.begin());
+        o.any = true;
+      }
+    }
+  }
+
+  // Alg. 2:12-14 — the counts toward t(D) of the selected region (every propagation counts,
+  // also one that made no progress), the new node, the witness. Returns whether the search
+  // ended (a witness, or the node cap reached).
+  bool commit(const Draw& d, const Outcome& o) {
+    regions_[d.region].propagations += o.propagations;
+    c_.propagations += o.propagations;
+    c_.integration_steps += o.integration_steps;
+    if (!o.any) return false;
+    const NodeId id = add_node(d.s, d.q, o.r.mode, o.x, o.u, o.r.duration, o.r.transition);
+    if (RrtExtension::reached_unsafe(o.r)) finish(id);
+    return out_.trajectory.has_value() || c_.nodes >= ctx_.limits.max_nodes;
+  }
+
+  bool done() const { return out_.trajectory.has_value(); }
+  bool out_of_budget() const { return budget_.exhausted(c_.nodes).has_value(); }
+  bool at_node_cap() const { return c_.nodes >= ctx_.limits.max_nodes; }
+  Rng& rng() { return rng_; }
+  Propagator& propagator() { return *prop_; }
+  const SearchBudget& budget() const { return budget_; }
+  const PlannerContext& ctx() const { return ctx_; }
+
+ private:
+  NodeId add_node(NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x, std::span<const double> u,
+                  double duration, int transition) {
+    const NodeId id = tree_.add(parent, edge_mode, mode, x, u, duration, transition);
+    ++c_.nodes;
+    const RegionId r = dec_->region_of(mode, x);
+    bool fresh;
+    const std::uint32_t ri = region_slot_.find_or_insert(r, static_cast<std::uint32_t>(regions_.size()), fresh);
+    if (fresh) regions_.emplace_back().volume = dec_->volume(r);
+    RegionData& rd = regions_[ri];
+    double pr[2];
+    dec_->project(mode, x, std::span<double, 2>(pr, 2));
+    const CellKey key{r, static_cast<std::int64_t>(std::floor(pr[0] / cell_)),
+                      static_cast<std::int64_t>(std::floor(pr[1] / cell_))};
+    auto [cit, new_cell] = cell_index_.try_emplace(key, static_cast<std::uint32_t>(cells_.size()));
+    if (new_cell) {
+      cells_.emplace_back();
+      rd.cells.push_back(cit->second);
+    }
+    cells_[cit->second].nodes.push_back(id);
+    if (!rd.available) {  // a newly reached region joins D_avail (Sect. 3.3.1)
+      rd.available = true;
+      avail_.push_back(r);
+    }
+    return id;
+  }
+  void finish(NodeId leaf) {
+    out_.status = TrialStatus::falsified;
+    out_.trajectory = trajectory_from_tree(sys_, *prop_, tree_, leaf, ctx_.parameters);
+  }
+  RegionData& region(RegionId r) { return regions_[region_slot_.find(r)]; }
+  bool reached(RegionId r) const { return region_slot_.find(r) != RegionSlots::kNone; }
+  // w_i(q) of Sect. 3.2.3; a region not reached yet has cov = t = 1.
+  double lead_weight(RegionId r) const {
+    const std::uint32_t ri = region_slot_.find(r);
+    if (ri == RegionSlots::kNone) return power(dec_->volume(r), o_.e.nu);
+    const RegionData& rd = regions_[ri];
+    return hydice_lead_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
+                              1.0 + static_cast<double>(rd.propagations));
+  }
+  // Where to steer from region r: the region after r on the current lead; off the lead (or
+  // without leads) the centre of a random neighbour of r in G_D.
+  std::array<double, 2> steering_target(RegionId r, Rng& g) {
+    auto it = lead_position_.find(r);
+    if (it != lead_position_.end() && it->second + 1 < current_lead_.size())
+      return dec_->centre(current_lead_[it->second + 1]);
+    dec_->neighbors(r, nb_);
+    if (nb_.empty()) return dec_->centre(r);
+    return dec_->centre(nb_[std::uniform_int_distribution<std::size_t>(0, nb_.size() - 1)(g)]);
+  }
+
+  const HydiceOptions& o_;
+  const PlannerContext& ctx_;
+  const System& sys_;
+  const SystemInfo& info_;
+  const Decomposition* dec_;
+  PlannerOutcome& out_;
+  PlannerCounters& c_;
+  const std::size_t m_;
+  std::unique_ptr<Propagator> prop_;
+  const SearchBudget budget_;
+  Rng rng_;
+  const double cell_;
+  NodeStore tree_;
+  // The reached regions' data, indexed through a RegionSlots (dense arrays on a dense
+  // decomposition: the lead weight is read for every region the lead search touches).
+  RegionSlots region_slot_;
+  std::vector<RegionData> regions_;
+  std::unordered_map<CellKey, std::uint32_t, CellKeyHash> cell_index_;
+  std::vector<Cell> cells_;
+  std::vector<RegionId> avail_;  // D_avail
+  std::vector<RegionId> start_regions_, current_lead_, nb_;
+  std::unordered_map<RegionId, std::size_t> lead_position_;
+  double unreached_edge_cost_ = 0.0;
+  LeadSearch lead_search_;
+  const bool draw_box_;
+  InputGrid grid_;
+  std::vector<double> ulo_, uhi_;
+  std::int64_t leads_ = 0, random_leads_ = 0, failed_leads_ = 0, expansions_ = 0, random_expansions_ = 0;
+};
+
+// The budget (wall clock, node cap) is read every 16 motion steps: a step is one or a few
+// propagations (10-40 µs each on navigation), so the deadline is overshot by well under a
+// millisecond, and the clock is not read per propagation (each propagation also polls the
+// budget's interrupt, so a late one ends as rejected anyway).
+constexpr std::int64_t kBudgetCheckEvery = 16;
+
+// The sequential motion step (batch = 1), the paper's Alg. 2:8-14: one selection and its
+// propagation(s) at a time, against the live estimates, with the trial's one RNG stream.
+class SequentialStep {
+ public:
+  void grow(HydiceSearch& search, std::int64_t steps) {
+    for (std::int64_t k = 0; k < steps && !search.done(); ++k) {
+      if (k > 0 && k % kBudgetCheckEvery == 0 && search.out_of_budget()) break;
+      search.selection_weights(wsel_);
+      search.draw(search.rng(), wsel_, draw_);
+      search.propagate(search.propagator(), draw_, outcome_);
+      if (search.commit(draw_, outcome_) && !search.done()) break;  // the node cap
+    }
+  }
+
+ private:
+  std::vector<double> wsel_;
+  HydiceSearch::Draw draw_;
+  HydiceSearch::Outcome outcome_;
+};
+
+// The batch motion step (batch = B > 1, core/parallel_slots.hpp): see the header.
+class BatchStep {
+ public:
+  BatchStep(const System& sys, const SearchBudget& budget, std::size_t batch) : slots_(batch) {
+    for (Slot& s : slots_) {
+      s.prop = sys.make_propagator();
+      s.prop->set_interrupt(budget.interrupt());
+    }
+  }
+  void grow(HydiceSearch& search, std::int64_t steps) {
+    const std::size_t batch = slots_.size();
+    for (std::int64_t k = 0; k < steps && !search.done(); k += static_cast<std::int64_t>(batch)) {
+      if (k > 0 && search.out_of_budget()) break;
+      // Select, in slot order, each slot with its own stream, against the estimates of the
+      // round's start (t(D) and cov(D) change only in the commits below).
+      search.selection_weights(wsel_);
+      for (std::size_t s = 0; s < batch; ++s) {
+        Rng g(slot_seed(search.ctx().seed, round_, s));
+        search.draw(g, wsel_, slots_[s].draw);
+      }
+      ++round_;
+      // Propagate in parallel against the frozen tree.
+      parallel_slots(batch, search.ctx().cpu,
+                     [&](std::size_t s) { search.propagate(*slots_[s].prop, slots_[s].draw, slots_[s].outcome); });
+      // Commit in slot order; the first slot reaching the unsafe set ends the search, and the
+      // node cap is checked before each commit so that it is exact.
+      bool ended = false;
+      for (std::size_t s = 0; s < batch && !ended; ++s) {
+        if (search.at_node_cap()) break;
+        ended = search.commit(slots_[s].draw, slots_[s].outcome);
+      }
+      if (ended || search.at_node_cap()) break;
+    }
+  }
+
+ private:
+  struct Slot {
+    std::unique_ptr<Propagator> prop;
+    HydiceSearch::Draw draw;
+    HydiceSearch::Outcome outcome;
+  };
+  std::vector<Slot> slots_;
+  std::vector<double> wsel_;
+  std::uint64_t round_ = 0;
+};
+
 class Hydice final : public Planner {
  public:
   explicit Hydice(HydiceOptions o) : o_(o) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    const System& sys = ctx.system;
-    const SystemInfo& info = sys.info();
-    check_hydice_system(sys, Json());
-    const Decomposition* dec = sys.decomposition();
-    const std::size_t n = info.dim(), m = info.input_names.size();
-    const std::span<const double> p = ctx.parameters;
+    check_hydice_system(ctx.system, Json());
     PlannerOutcome out;
-    PlannerCounters& c = out.counters;
-    auto prop = sys.make_propagator();
-    const SearchBudget budget(ctx);
-    prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
-    Rng rng(ctx.seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const double cell = dec->cell_size();
-
-    NodeStore tree(n, m);
-    // The reached regions' data, indexed through a RegionSlots (dense arrays on a dense
-    // decomposition: the lead weight is read for every region the lead search touches).
-    RegionSlots region_slot;
-    region_slot.attach(*dec);
-    std::vector<RegionData> regions;
-    auto region = [&](RegionId r) -> RegionData& { return regions[region_slot.find(r)]; };
-    std::unordered_map<CellKey, std::uint32_t, CellKeyHash> cell_index;
-    std::vector<Cell> cells;
-    std::vector<RegionId> avail;  // D_avail
-    std::vector<double> wsel;
-    std::int64_t leads = 0, random_leads = 0, failed_leads = 0, expansions = 0, random_expansions = 0;
-    LeadSearch lead_search;
-
-    auto add_node = [&](NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
-                        std::span<const double> u, double duration, int transition) {
-      const NodeId id = tree.add(parent, edge_mode, mode, x, u, duration, transition);
-      ++c.nodes;
-      const RegionId r = dec->region_of(mode, x);
-      bool fresh;
-      const std::uint32_t ri = region_slot.find_or_insert(r, static_cast<std::uint32_t>(regions.size()), fresh);
-      if (fresh) regions.emplace_back().volume = dec->volume(r);
-      RegionData& rd = regions[ri];
-      double pr[2];
-      dec->project(mode, x, std::span<double, 2>(pr, 2));
-      const CellKey key{r, static_cast<std::int64_t>(std::floor(pr[0] / cell)),
-                        static_cast<std::int64_t>(std::floor(pr[1] / cell))};
-      auto [cit, new_cell] = cell_index.try_emplace(key, static_cast<std::uint32_t>(cells.size()));
-      if (new_cell) {
-        cells.emplace_back();
-        rd.cells.push_back(cit->second);
-      }
-      cells[cit->second].nodes.push_back(id);
-      if (!rd.available) {  // a newly reached region joins D_avail (Sect. 3.3.1)
-        rd.available = true;
-        avail.push_back(r);
-      }
-      return id;
-    };
-    auto finish = [&](NodeId leaf) {
-      out.status = TrialStatus::falsified;
-      out.trajectory = trajectory_from_tree(sys, *prop, tree, leaf, p);
-    };
-
-    std::vector<std::vector<double>> starts{info.initial_state};
-    for (const auto& x0 : info.other_initial_states) starts.push_back(x0);
-    std::vector<RegionId> start_regions;
-    for (const auto& x0 : starts) {
-      const NodeId id = add_node(kNoNode, info.initial_mode, info.initial_mode, x0, {}, 0.0, -1);
-      start_regions.push_back(dec->region_of(info.initial_mode, x0));
-      if (!out.trajectory && sys.spec(info.initial_mode, x0, p) <= 0.0) finish(id);
-    }
-
-    auto lead_weight = [&](RegionId r) {
-      const std::uint32_t ri = region_slot.find(r);
-      if (ri == RegionSlots::kNone) return power(dec->volume(r), o_.e.nu);  // not reached: cov = t = 1
-      const RegionData& rd = regions[ri];
-      return hydice_lead_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
-                                1.0 + static_cast<double>(rd.propagations));
-    };
-    auto reached = [&](RegionId r) { return region_slot.find(r) != RegionSlots::kNone; };
-    // The cost of a G_D edge between two regions not reached yet (the start region's volume):
-    // the A* heuristic's cost per hop.
-    const double unreached_edge_cost = 1.0 / std::pow(std::pow(dec->volume(start_regions.front()), o_.e.nu), 2.0);
-
-    std::vector<double> x_new(n), x_try(n), cell_w, ulo(m), uhi(m), u(m), u_best(m);
-    const bool draw_box = o_.inputs == HydiceOptions::Inputs::box ||
-                          (o_.inputs == HydiceOptions::Inputs::automatic && info.continuous_random_inputs);
-    InputGrid grid(sys);
-    std::vector<RegionId> current_lead, nb;
-    std::unordered_map<RegionId, std::size_t> lead_position;
-    // Where to steer from region r: the region after r on the current lead; off the lead (or
-    // without leads) the centre of a random neighbour of r in G_D.
-    auto steering_target = [&](const Decomposition& d, RegionId r, Rng& g, std::vector<RegionId>& buf) {
-      auto it = lead_position.find(r);
-      if (it != lead_position.end() && it->second + 1 < current_lead.size()) return d.centre(current_lead[it->second + 1]);
-      d.neighbors(r, buf);
-      if (buf.empty()) return d.centre(r);
-      return d.centre(buf[std::uniform_int_distribution<std::size_t>(0, buf.size() - 1)(g)]);
-    };
-    std::vector<std::uint32_t> cell_sel;
-    while (!out.trajectory) {
-      if (auto why = budget.exhausted(c.nodes)) {
-        out.status = *why;
-        break;
-      }
-      // Alg. 2:6 — the lead and D_avail.
-      std::int64_t steps = std::numeric_limits<std::int64_t>::max();
-      if (o_.leads) {
-        ++leads;
-        std::vector<RegionId> lead;
-        if (unit(rng) < o_.shortest_probability) {
-          lead = lead_search.find(*dec, start_regions, lead_weight, nullptr, o_.lead_heuristic * unreached_edge_cost);
-        } else {
-          ++random_leads;
-          lead = lead_search.find(*dec, start_regions, {}, &rng, o_.lead_heuristic * 1.0);
-          random_expansions += static_cast<std::int64_t>(lead_search.expanded());
-        }
-        if (lead.empty()) {
-          ++failed_leads;
-          if (failed_leads == 1 && leads == 1) {  // no unsafe region reachable in G_D at all
-            out.status = TrialStatus::not_found;
-            break;
-          }
-          lead = start_regions;
-        }
-        lead_position.clear();
-        for (std::size_t i = 0; i < lead.size(); ++i) lead_position.emplace(lead[i], i);
-        current_lead.swap(lead);
-        for (RegionId r : avail) region(r).available = false;
-        avail = hydice_available(current_lead, reached, rng);
-        for (RegionId r : avail) region(r).available = true;
-        // t_σ: at least t_sigma propagations, more when the lead search was long, so that the
-        // discrete search keeps a bounded share of the time (the paper's t_σ is wall time).
-        expansions += static_cast<std::int64_t>(lead_search.expanded());
-        steps = std::max<std::int64_t>(o_.t_sigma, static_cast<std::int64_t>(lead_search.expanded()) / kExpansionsPerPropagation);
-      }
-      // Alg. 2:8-14 — the motion-planning step.
-      for (std::int64_t k = 0; k < steps && !out.trajectory; ++k) {
-        if (k > 0 && k % 16 == 0 && budget.exhausted(c.nodes)) break;
-        wsel.resize(avail.size());
-        for (std::size_t i = 0; i < avail.size(); ++i) {
-          const RegionData& rd = region(avail[i]);
-          wsel[i] = hydice_selection_weight(o_.e, rd.volume, static_cast<double>(rd.cells.size()),
-                                            1.0 + static_cast<double>(rd.propagations));
-        }
-        const RegionId selected = avail[hydice_pick_weighted(wsel, rng)];
-        RegionData& rd = region(selected);
-        cell_sel.resize(rd.cells.size());
-        for (std::size_t i = 0; i < rd.cells.size(); ++i) cell_sel[i] = cells[rd.cells[i]].selections;
-        Cell& cl = cells[rd.cells[hydice_pick_cell(cell_sel, rng)]];
-        ++cl.selections;
-        const NodeId s = cl.nodes[std::uniform_int_distribution<std::size_t>(0, cl.nodes.size() - 1)(rng)];
-        // PropagateForward (Alg. 3) under `controls` inputs drawn uniformly from the admissible
-        // box at x_s (the driver), keeping the end state nearest the steering target.
-        const Mode q = tree.info(s).mode;
-        const auto x_s = tree.state(s);
-        if (draw_box) sys.input_bounds(q, x_s, ulo, uhi);
-        else grid.at(q, x_s);
-        std::array<double, 2> target{std::numeric_limits<double>::quiet_NaN(), 0.0};
-        if (o_.controls > 1) target = steering_target(*dec, selected, rng, nb);
-        double best = std::numeric_limits<double>::infinity();
-        PropagationResult best_r;
-        for (std::int64_t j = 0; j < o_.controls; ++j) {
-          if (draw_box) {
-            for (std::size_t i = 0; i < m; ++i) u[i] = ulo[i] + unit(rng) * (uhi[i] - ulo[i]);
-          } else {
-            const auto g = grid.input(std::uniform_int_distribution<std::size_t>(0, grid.count() - 1)(rng));
-            std::copy(g.begin(), g.end(), u.begin());
-          }
-          const PropagationResult r = prop->propagate(q, x_s, u, p, info.step_duration, x_try);
-          ++rd.propagations;
-          ++c.propagations;
-          c.integration_steps += r.steps;
-          if (r.end == PropagationEnd::rejected) continue;
-          if (r.duration <= 0.0 && r.end != PropagationEnd::jumped && r.end != PropagationEnd::unsafe) continue;
-          double score = 0.0;
-          if (!std::isnan(target[0])) {
-            double pr[2];
-            dec->project(r.mode, x_try, std::span<double, 2>(pr, 2));
-            score = std::hypot(pr[0] - target[0], pr[1] - target[1]);
-          }
-          if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) score = -1.0;  // a witness wins
-          if (score < best) {
-            best = score;
-            best_r = r;
-            x_new.swap(x_try);
-            u_best.swap(u);
-          }
-        }
-        if (best == std::numeric_limits<double>::infinity()) continue;
-        const PropagationResult& r = best_r;
-        const NodeId id = add_node(s, q, r.mode, x_new, u_best, r.duration, r.transition);
-        if (r.end == PropagationEnd::unsafe || r.spec <= 0.0) finish(id);
-        if (c.nodes >= ctx.limits.max_nodes) break;
-      }
-    }
-    out.metrics["regions_reached"] = regions.size();
-    out.metrics["coverage_cells"] = cells.size();
-    if (o_.leads) {
-      out.metrics["leads"] = leads;
-      out.metrics["random_leads"] = random_leads;
-      out.metrics["failed_leads"] = failed_leads;
-      out.metrics["lead_expansions"] = expansions;
-      out.metrics["random_lead_expansions"] = random_expansions;
+    HydiceSearch search(o_, ctx, out);
+    if (o_.batch <= 1) {
+      SequentialStep step;
+      search.run(step);
+    } else {
+      BatchStep step(ctx.system, search.budget(), static_cast<std::size_t>(o_.batch));
+      search.run(step);
     }
     return out;
   }
@@ -598,7 +807,8 @@ std::vector<OptionSpec> exponent_options() {
           {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (as the suite declares: box for navigation's drivers, set otherwise)", "auto|set|box"},
           {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)", "[0, 10]"},
           {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)", "[0, 10]"},
-          {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)", "[0, 10]"}};
+          {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)", "[0, 10]"},
+          batch_option()};
 }
 
 }  // namespace
