@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <oneapi/tbb/task_arena.h>
+
 #include "core/options.hpp"
 #include "core/planner.hpp"
 #include "core/rng.hpp"
@@ -84,6 +86,47 @@ TEST(HydicePinned, BatchOneReproducesThePreChangeTrials) {
     EXPECT_EQ(got.leads, want.leads) << what;
     EXPECT_EQ(got.lead_expansions, want.lead_expansions) << what;
     EXPECT_EQ(got.end_hash, want.end_hash) << what;
+  }
+}
+
+// A batch (B = 8 slots a round, each with its own stream) gives the same trial on 1 and on 2
+// threads: status, counters, lead statistics and the witness, piece by piece.
+TEST(HydiceBatch, SameTrialOnOneAndTwoThreads) {
+  for (const char* method : {"hydice", "hydice-noleads"}) {
+    for (const char* driver : {"random", "highway"}) {
+      const SuiteEntry* s = find_suite("navigation");
+      auto sys = s->make(resolve_options(s->parameters, {{"n", "64"}, {"property", "1"}, {"driver", driver}}));
+      auto solve = [&](int threads) {
+        auto planner = find_method(method)->make(resolve_options(find_method(method)->options, {{"batch", "8"}}));
+        const PlannerContext ctx{*sys, sys->info().parameters, 77, PlannerLimits{1e6, 60'000}, {}};
+        PlannerOutcome out;
+        tbb::task_arena arena(threads);
+        arena.execute([&] { out = planner->solve(ctx); });
+        return out;
+      };
+      const PlannerOutcome one = solve(1), two = solve(2);
+      const std::string what = std::string(method) + " " + driver;
+      std::printf("  %s batch 8: %s, %lld nodes, %lld propagations\n", what.c_str(),
+                  one.status == TrialStatus::falsified ? "falsified" : "not falsified",
+                  static_cast<long long>(one.counters.nodes), static_cast<long long>(one.counters.propagations));
+      EXPECT_EQ(one.status, two.status) << what;
+      EXPECT_EQ(one.counters.nodes, two.counters.nodes) << what;
+      EXPECT_EQ(one.counters.propagations, two.counters.propagations) << what;
+      EXPECT_EQ(one.counters.integration_steps, two.counters.integration_steps) << what;
+      EXPECT_EQ(one.metrics.dump(), two.metrics.dump()) << what;
+      ASSERT_EQ(one.trajectory.has_value(), two.trajectory.has_value()) << what;
+      if (!one.trajectory) continue;
+      ASSERT_EQ(one.trajectory->pieces.size(), two.trajectory->pieces.size()) << what;
+      for (std::size_t i = 0; i < one.trajectory->pieces.size(); ++i) {
+        const auto& a = one.trajectory->pieces[i];
+        const auto& b = two.trajectory->pieces[i];
+        EXPECT_EQ(a.mode, b.mode);
+        EXPECT_EQ(a.u, b.u);
+        EXPECT_EQ(a.duration, b.duration);
+        EXPECT_EQ(a.x_end, b.x_end);
+      }
+      EXPECT_EQ(one.trajectory->final_x, two.trajectory->final_x) << what;
+    }
   }
 }
 
