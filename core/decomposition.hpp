@@ -46,8 +46,10 @@ class Decomposition {
   virtual std::array<double, 2> centre(RegionId) const {
     return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   }
-  // A lower bound on the number of G_D edges from r to an unsafe region (0 = none known):
-  // the A* heuristic of the lead search. Must not overestimate.
+  // A lower bound on the number of G_D edges from r to an unsafe region (0 = none known; inf =
+  // no path): the A* heuristic of the lead search. Must not overestimate the hop count. (What a
+  // hop costs is the planner's choice: HyDICE prices it at the cost of an edge on unreached
+  // ground, which can exceed an edge's cost inside its tree: a weighted A*, see hydice.cpp.)
   virtual double hops_to_unsafe(RegionId) const { return 0.0; }
   // 0: no dense indexing. Otherwise every region r has dense_index(r) < dense_size(), and
   // distinct regions have distinct indices.

@@ -20,10 +20,44 @@
 //  - Leads: with probability `shortest_probability` (0.9, Sect. 4) the shortest path for edge cost
 //    1/(w_i w_j); else a random path, the shortest for i.i.d. edge costs uniform in (0, 1]. Both
 //    by A* over the implicit graph (LeadSearch; only regions it touches are stored) with
-//    h(r) = `lead_heuristic` x Decomposition::hops_to_unsafe(r) x c, c = the cost of an edge
-//    between two unreached regions (1 for random paths): exact on unreached ground, where
-//    the lead leaves the tree, and an overestimate inside a well-covered tree, where it makes
-//    the search greedy. Regions with no path to an unsafe one (hops = inf) are never queued.
+//    h(r) = `lead_heuristic` x Decomposition::hops_to_unsafe(r) x c, c = the cost 1/(w_a w_b) of
+//    an edge between two unreached regions of the start region's volume (1 for random paths).
+//    Deliberately a weighted A*, not an admissible one: hops_to_unsafe is a lower bound on hops,
+//    and c is the exact cost of a hop on unreached ground (where the lead leaves the tree, with
+//    every region of the navigation decomposition the same volume), but inside a well-covered
+//    tree an edge costs far less than c (w grows with cov^ζ), so there h overestimates and the
+//    search runs greedily toward the unsafe set instead of flooding the tree; regions expanded
+//    are never reopened. The lead is then not always the exact shortest path of Sect. 3.2.3;
+//    `lead_heuristic` = 0 gives plain Dijkstra (exact), and the default is kept because the
+//    committed tables were produced with it (an admissible price per hop, the smallest edge
+//    cost, tends to 0 as coverage grows and degenerates to Dijkstra, which floods the tree).
+//    Regions with no path to an unsafe one (hops = inf) are never queued.
+//  - Lead search cost (issue 12): the regions a search touches are indexed densely where the
+//    decomposition is dense (Decomposition::dense_size; navigation), in paged flat arrays reset
+//    by a stamp, instead of an open-addressing hash table; the reached regions' estimates are
+//    indexed the same way (the weight of every touched region is read); the open list is an
+//    indexed 4-ary heap with decrease-key instead of a lazy binary heap; the neighbours' cells
+//    are prefetched. Equivalence: entries are still created in the same order (their index
+//    breaks ties), the weights are the same expressions, and the A* order (f, h, entry) is a
+//    total order in which an entry's f only decreases, so any exact priority queue pops the
+//    same sequence: the same leads come out (test_hydice_pinned pins nodes, propagations, leads
+//    and lead expansions of fixed trials recorded before the change).
+//  - Structure (issue 12, as OMPL splits Syclop): HydiceSearch is the fixed lead / availability
+//    layer (leads, D_avail, t(D), cov(D), the outer loop of Alg. 2); the motion-planning step
+//    varies: SequentialStep (batch = 1) or BatchStep, both built from HydiceSearch's draw /
+//    propagate / commit phases.
+//  - Batches (`batch` = B > 1, core/parallel_slots.hpp): one round = B motion steps toward the
+//    current lead's D_avail (or, without leads, every reached region). The selection weights
+//    w_sel (t(D), cov(D)) are those of the round's start; in slot order, slot s draws its region,
+//    coverage cell (the cell's selection count grows as each slot selects, as in the sequential
+//    step), state and inputs from its own stream Rng(slot_seed(seed, round, s)); the B
+//    propagations run in parallel, each slot with its own propagator and buffers, against the
+//    frozen tree; then the slots commit in slot order (t(D) counts, nodes, coverage cells; the
+//    first slot reaching the unsafe set wins; the node cap is checked before each commit, so
+//    it is exact). A round counts B motion steps toward t_σ. Leads, D_avail and the random
+//    paths keep using the trial's stream Rng(seed); rounds are numbered over the whole trial.
+//    Results depend on B, never on the number of threads; B = 1 is the sequential step with
+//    the trial's one stream, exactly the algorithm before batches existed.
 //  - v_safe's edges go to the regions of the initial states (every initial state is a root of
 //    the one tree, so a witness may start from any of them).
 //  - Inputs (`inputs`): `box` draws u uniformly from the admissible box at the selected state
@@ -334,9 +368,12 @@ std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng
 
 namespace {
 
-// One propagation (~10-40 µs on the navigation vehicles) costs about as much as 50 region
-// expansions of the lead search (~0.3 µs each): t_σ >= expanded / 50 keeps leads <= ~50 % of
-// the time.
+// t_σ >= (regions the lead search expanded) / 50: the paper's t_σ is wall time, and when this was
+// set one propagation (~10-40 µs on the navigation vehicles) cost about as much as 50 region
+// expansions of the lead search (~0.3 µs each), so a lead search kept <= ~50 % of the time
+// (perf, navigation 1024², property 0: 59 % in the lead search). It is a count, not a clock, so
+// that trials stay deterministic; the issue-12 lead search is cheaper per expansion, but the
+// constant stays so that the committed tables (which depend on t_σ) do not change.
 constexpr std::int64_t kExpansionsPerPropagation = 50;
 
 // The values come only from the resolved options (their defaults and ranges are declared once, in

@@ -31,7 +31,9 @@ double hydice_selection_weight(const HydiceExponents& e, double vol, double cov,
 // it is the shortest path for edge cost 1/(w(a) w(b)) (Dijkstra over the implicit graph);
 // with `rng` instead (weight empty) every edge gets an independent cost uniform in (0, 1], a
 // random path (Sect. 3.2.3). A* with h(r) = heuristic_edge_cost * d.hops_to_unsafe(r) (0: plain
-// Dijkstra); regions with no path to an unsafe one (hops = inf) are pruned. Empty when no unsafe
+// Dijkstra), expanded regions never reopened: the exact shortest path when that h never
+// overestimates, a weighted (greedier) search otherwise; regions with no path to an unsafe one
+// (hops = inf) are pruned. Empty when no unsafe
 // region is reachable or `max_expanded` regions were expanded without reaching one.
 std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
                                   const std::function<double(RegionId)>& weight, Rng* rng,
