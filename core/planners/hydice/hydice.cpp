@@ -199,6 +199,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
                                        double heuristic_edge_cost, std::size_t max_expanded) {
   slots_.attach(d);
   entries_.clear();
+  heap_pos_.clear();
   expanded_ = 0;
   // A*: ordered by f = dist + h, ties to the smaller h (the deeper region), h = hops_to_unsafe
   // * heuristic_edge_cost; a region with no path to an unsafe one (hops = inf) is never queued.
@@ -214,7 +215,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
   // f only ever strictly decreases), with no stale items and a shallower heap.
   auto place = [&](std::size_t i, const OpenItem& it) {
     open_[i] = it;
-    entries_[it.entry].heap_pos = static_cast<std::uint32_t>(i);
+    heap_pos_[it.entry] = static_cast<std::uint32_t>(i);
   };
   auto sift_up = [&](std::size_t i, OpenItem it) {
     while (i > 0) {
@@ -237,19 +238,18 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
         if (first >= n) break;
         std::size_t best = first;
         const std::size_t end = std::min(first + 4, n);
-        for (std::size_t c = first + 1; c < end; ++c)
-          if (open_[best] > open_[c]) best = c;
+        for (std::size_t c = first + 1; c < end; ++c) best = open_[best] > open_[c] ? c : best;
         if (!(last > open_[best])) break;
         place(i, open_[best]);
         i = best;
       }
       place(i, last);
     }
-    entries_[top].heap_pos = kNotQueued;
+    heap_pos_[top] = kNotQueued;
     return top;
   };
   auto push = [&](const OpenItem& it) {  // a new item, or a smaller f for a queued entry
-    const std::uint32_t at = entries_[it.entry].heap_pos;
+    const std::uint32_t at = heap_pos_[it.entry];
     if (at == kNotQueued) {
       open_.push_back(it);
       sift_up(open_.size() - 1, it);

@@ -114,24 +114,31 @@ class LeadSearch {
     RegionId region;
     double dist, w, h;
     std::uint32_t parent;
-    std::uint32_t heap_pos;  // index in open_, kNotQueued when not queued
     bool done;
   };
   struct OpenItem {  // A* queue entry: f = dist + h, ties to the smaller h (deeper)
     double f, h;
     std::uint32_t entry;
+    // Evaluated without branches (bitwise on the comparisons): the heap compares items whose
+    // order is unpredictable, and branch misses dominated the heap's cost.
     bool operator>(const OpenItem& o) const {
-      return f > o.f || (f == o.f && (h > o.h || (h == o.h && entry > o.entry)));
+      return (f > o.f) | ((f == o.f) & ((h > o.h) | ((h == o.h) & (entry > o.entry))));
     }
   };
   // The entry of r, created (dist 0, no parent, weight not computed) when new; `fresh` says so.
   std::uint32_t entry_of(RegionId r, bool& fresh) {
     const std::uint32_t k = slots_.find_or_insert(r, static_cast<std::uint32_t>(entries_.size()), fresh);
-    if (fresh) entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, kNotQueued, false});
+    if (fresh) {
+      entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, false});
+      heap_pos_.push_back(kNotQueued);
+    }
     return k;
   }
   RegionSlots slots_;
   std::vector<Entry> entries_;
+  // The index in open_ of each entry (kNotQueued when not queued), apart from the entries so
+  // that the heap's moves write 4 bytes into a dense array rather than into a 40-byte entry.
+  std::vector<std::uint32_t> heap_pos_;
   std::vector<OpenItem> open_;
   std::vector<RegionId> nb_;
   std::size_t expanded_ = 0;
