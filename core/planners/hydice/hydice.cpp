@@ -436,6 +436,7 @@ struct Cell {
 };
 
 struct RegionData {
+  RegionId id = 0;
   double volume = 0.0;
   std::int64_t propagations = 0;  // t(D) - 1
   std::vector<std::uint32_t> cells;  // indices into the cell table
@@ -507,6 +508,10 @@ class HydiceSearch {
   // t_σ motion steps along it (Alg. 2:7-14); HyDICE[NoLeads] has one step for the whole budget.
   template <class MotionStep>
   void run(MotionStep& step) {
+    if (o_.leads && o_.batch > 1) {
+      run_pipelined(step);
+      return report();
+    }
     while (!out_.trajectory) {
       if (auto why = budget_.exhausted(c_.nodes)) {
         out_.status = *why;
@@ -520,6 +525,36 @@ class HydiceSearch {
       }
       step.grow(*this, steps);
     }
+    report();
+  }
+
+  // With batches, the next lead is searched while the tree grows along the current one (two
+  // tasks of one parallel_slots; with one thread they simply run one after the other). The next
+  // lead uses the estimates frozen when that growth started (a snapshot of every reached
+  // region's lead weight), and the trial's stream, which the batch step does not use; its
+  // D_avail is drawn after the growth, against the regions reached by then. So lead k + 1 sees
+  // the tree as lead k's step found it, not as it left it: deterministic, whatever the threads.
+  template <class MotionStep>
+  void run_pipelined(MotionStep& step) {
+    if (out_.trajectory) return;
+    auto t_sigma = next_lead();
+    while (t_sigma && !out_.trajectory) {
+      if (auto why = budget_.exhausted(c_.nodes)) {
+        out_.status = *why;
+        break;
+      }
+      snapshot_lead_weights();
+      LeadFound next;
+      parallel_slots(2, ctx_.cpu, [&](std::size_t task) {
+        if (task == 0) step.grow(*this, *t_sigma);
+        else next = search_lead(true);
+      });
+      if (out_.trajectory) break;
+      t_sigma = adopt_lead(std::move(next));
+    }
+  }
+
+  void report() {
     out_.metrics["regions_reached"] = regions_.size();
     out_.metrics["coverage_cells"] = cells_.size();
     if (o_.leads) {
@@ -533,18 +568,37 @@ class HydiceSearch {
 
   // Alg. 2:6 — the lead (Sect. 3.2.3) and D_avail (Sect. 3.3.1). Returns t_σ in motion steps,
   // or nothing when no unsafe region is reachable in G_D at all (status not_found).
-  std::optional<std::int64_t> next_lead() {
+  std::optional<std::int64_t> next_lead() { return adopt_lead(search_lead(false)); }
+
+  // A lead and the regions its search expanded.
+  struct LeadFound {
+    std::vector<RegionId> lead;
+    std::size_t expanded = 0;
+  };
+  // The search of Alg. 2:6: the shortest path for the weights as they stand (or, `snapshot`, as
+  // snapshot_lead_weights froze them), or a random path. Uses the trial's stream.
+  LeadFound search_lead(bool snapshot) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     ++leads_;
-    std::vector<RegionId> lead;
+    LeadFound f;
     if (unit(rng_) < o_.shortest_probability) {
-      const auto weight = [this](RegionId r) { return lead_weight(r); };
-      lead = lead_search_.find(*dec_, start_regions_, weight, nullptr, o_.lead_heuristic * unreached_edge_cost_);
+      const std::function<double(RegionId)> weight =
+          snapshot ? std::function<double(RegionId)>([this](RegionId r) { return snapshot_weight(r); })
+                   : std::function<double(RegionId)>([this](RegionId r) { return lead_weight(r); });
+      f.lead = lead_search_.find(*dec_, start_regions_, weight, nullptr, o_.lead_heuristic * unreached_edge_cost_);
     } else {
       ++random_leads_;
-      lead = lead_search_.find(*dec_, start_regions_, {}, &rng_, o_.lead_heuristic * 1.0);
+      f.lead = lead_search_.find(*dec_, start_regions_, {}, &rng_, o_.lead_heuristic * 1.0);
       random_expansions_ += static_cast<std::int64_t>(lead_search_.expanded());
     }
+    f.expanded = lead_search_.expanded();
+    return f;
+  }
+
+  // Makes `found` the current lead and draws its D_avail (Sect. 3.3.1). Returns t_σ in motion
+  // steps, or nothing when no unsafe region is reachable in G_D at all (status not_found).
+  std::optional<std::int64_t> adopt_lead(LeadFound found) {
+    std::vector<RegionId> lead = std::move(found.lead);
     if (lead.empty()) {
       ++failed_leads_;
       if (failed_leads_ == 1 && leads_ == 1) {  // no unsafe region reachable in G_D at all
@@ -561,9 +615,23 @@ class HydiceSearch {
     for (RegionId r : avail_) region(r).available = true;
     // t_σ: at least t_sigma propagations, more when the lead search was long, so that the
     // discrete search keeps a bounded share of the time (the paper's t_σ is wall time).
-    expansions_ += static_cast<std::int64_t>(lead_search_.expanded());
-    return std::max<std::int64_t>(o_.t_sigma,
-                                  static_cast<std::int64_t>(lead_search_.expanded()) / kExpansionsPerPropagation);
+    expansions_ += static_cast<std::int64_t>(found.expanded);
+    return std::max<std::int64_t>(o_.t_sigma, static_cast<std::int64_t>(found.expanded) / kExpansionsPerPropagation);
+  }
+
+  // Freezes the lead weight of every reached region for search_lead(true).
+  void snapshot_lead_weights() {
+    snap_slots_.attach(*dec_);
+    snap_w_.resize(regions_.size());
+    for (std::size_t i = 0; i < regions_.size(); ++i) {
+      bool fresh;
+      snap_slots_.find_or_insert(regions_[i].id, static_cast<std::uint32_t>(i), fresh);
+      snap_w_[i] = lead_weight(regions_[i].id);
+    }
+  }
+  double snapshot_weight(RegionId r) const {
+    const std::uint32_t i = snap_slots_.find(r);
+    return i == RegionSlots::kNone ? power(dec_->volume(r), o_.e.nu) : snap_w_[i];
   }
 
   // w_sel of every region of D_avail (Sect. 3.3.1), as the estimates stand now.
@@ -672,7 +740,11 @@ class HydiceSearch {
     const RegionId r = dec_->region_of(mode, x);
     bool fresh;
     const std::uint32_t ri = region_slot_.find_or_insert(r, static_cast<std::uint32_t>(regions_.size()), fresh);
-    if (fresh) regions_.emplace_back().volume = dec_->volume(r);
+    if (fresh) {
+      RegionData& added = regions_.emplace_back();
+      added.id = r;
+      added.volume = dec_->volume(r);
+    }
     RegionData& rd = regions_[ri];
     double pr[2];
     dec_->project(mode, x, std::span<double, 2>(pr, 2));
@@ -739,6 +811,8 @@ class HydiceSearch {
   std::unordered_map<RegionId, std::size_t> lead_position_;
   double unreached_edge_cost_ = 0.0;
   LeadSearch lead_search_;
+  RegionSlots snap_slots_;  // the reached regions when the lead weights were frozen
+  std::vector<double> snap_w_;
   const bool draw_box_;
   InputGrid grid_;
   std::vector<double> ulo_, uhi_;
