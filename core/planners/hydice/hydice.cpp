@@ -56,6 +56,10 @@
 //    first slot reaching the unsafe set wins; the node cap is checked before each commit, so
 //    it is exact). A round counts B motion steps toward t_σ. Leads, D_avail and the random
 //    paths keep using the trial's stream Rng(seed); rounds are numbered over the whole trial.
+//    With batches the lead search is pipelined (issue 12 item 5): lead k + 1 is searched while
+//    the tree grows along lead k, on the lead weights frozen when that growth started (so it
+//    runs on a free thread; on one thread the two simply run in turn), and its D_avail is drawn
+//    after the growth (HydiceSearch::run_pipelined).
 //    Results depend on B, never on the number of threads; B = 1 is the sequential step with
 //    the trial's one stream, exactly the algorithm before batches existed.
 //  - v_safe's edges go to the regions of the initial states (every initial state is a root of
