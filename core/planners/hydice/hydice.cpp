@@ -207,10 +207,15 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
   expanded_ = 0;
   // A*: ordered by f = dist + h, ties to the smaller h (the deeper region), h = hops_to_unsafe
   // * heuristic_edge_cost; a region with no path to an unsafe one (hops = inf) is never queued.
-  auto h_of = [&](RegionId r) {
-    const double hops = d.hops_to_unsafe(r);
+  auto h_of = [&](double hops) {
     if (std::isinf(hops)) return hops;
     return heuristic_edge_cost > 0.0 ? heuristic_edge_cost * hops : 0.0;
+  };
+  // The rank of h in the queue's key: hops itself (saturated at 2^32 - 1; a fractional bound
+  // would only merge ranks, so that ties break by entry), or 0 when every h is 0.
+  auto h_rank_of = [&](double hops) -> std::uint32_t {
+    if (!(heuristic_edge_cost > 0.0)) return 0;
+    return hops >= 4294967295.0 ? 0xffffffffu : static_cast<std::uint32_t>(hops);
   };
   open_.clear();
   // The open list is an indexed 4-ary heap with decrease-key: each queued region has exactly
@@ -219,7 +224,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
   // f only ever strictly decreases), with no stale items and a shallower heap.
   auto place = [&](std::size_t i, const OpenItem& it) {
     open_[i] = it;
-    heap_pos_[it.entry] = static_cast<std::uint32_t>(i);
+    heap_pos_[it.entry()] = static_cast<std::uint32_t>(i);
   };
   auto sift_up = [&](std::size_t i, OpenItem it) {
     while (i > 0) {
@@ -231,7 +236,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     place(i, it);
   };
   auto pop_min = [&]() {
-    const std::uint32_t top = open_[0].entry;
+    const std::uint32_t top = open_[0].entry();
     const OpenItem last = open_.back();
     open_.pop_back();
     const std::size_t n = open_.size();
@@ -253,7 +258,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     return top;
   };
   auto push = [&](const OpenItem& it) {  // a new item, or a smaller f for a queued entry
-    const std::uint32_t at = heap_pos_[it.entry];
+    const std::uint32_t at = heap_pos_[it.entry()];
     if (at == kNotQueued) {
       open_.push_back(it);
       sift_up(open_.size() - 1, it);
@@ -262,13 +267,15 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
     }
   };
   for (RegionId s : starts) {
-    const double hs = h_of(s);
+    const double hops = d.hops_to_unsafe(s);
+    const double hs = h_of(hops);
     if (std::isinf(hs)) continue;
     bool fresh;
     const std::uint32_t k = entry_of(s, fresh);
     if (!fresh) continue;  // a duplicate start
     entries_[k].h = hs;
-    push(OpenItem{hs, hs, k});
+    entries_[k].h_rank = h_rank_of(hops);
+    push(OpenItem::make(hs, entries_[k].h_rank, k));
   }
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto w_of = [&](std::size_t k) {
@@ -294,7 +301,9 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
       bool fresh;
       const std::uint32_t j = entry_of(s, fresh);
       if (fresh) {
-        entries_[j].h = h_of(s);
+        const double hops = d.hops_to_unsafe(s);
+        entries_[j].h = h_of(hops);
+        entries_[j].h_rank = h_rank_of(hops);
       } else if (entries_[j].done) {
         continue;
       }
@@ -304,7 +313,7 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
       if (!fresh && !(nd < entries_[j].dist)) continue;
       entries_[j].dist = nd;
       entries_[j].parent = k;
-      push(OpenItem{nd + entries_[j].h, entries_[j].h, j});
+      push(OpenItem::make(nd + entries_[j].h, entries_[j].h_rank, j));
     }
   }
   return {};

@@ -2,6 +2,7 @@
 // (core/decomposition.hpp) computes leads that guide a sampling-based motion planner.
 // The pieces below are exposed for the tests.
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -114,22 +115,28 @@ class LeadSearch {
     RegionId region;
     double dist, w, h;
     std::uint32_t parent;
+    std::uint32_t h_rank;  // orders h (see OpenItem)
     bool done;
   };
-  struct OpenItem {  // A* queue entry: f = dist + h, ties to the smaller h (deeper)
-    double f, h;
-    std::uint32_t entry;
-    // Evaluated without branches (bitwise on the comparisons): the heap compares items whose
-    // order is unpredictable, and branch misses dominated the heap's cost.
-    bool operator>(const OpenItem& o) const {
-      return (f > o.f) | ((f == o.f) & ((h > o.h) | ((h == o.h) & (entry > o.entry))));
+  // A* queue entry, ordered by f = dist + h, ties to the smaller h (the deeper region), then to
+  // the older entry, packed into one 128-bit key compared as an integer (the heap's
+  // comparisons were its cost): the bits of f (>= 0, so its IEEE bits order as the number),
+  // then h's rank, then the entry. h = c x hops with c > 0 the same for every region of a search
+  // (or h = 0 when c = 0: rank 0), so hops (a whole number of G_D edges) ranks h.
+  struct OpenItem {
+    unsigned __int128 key;
+    static OpenItem make(double f, std::uint32_t h_rank, std::uint32_t entry) {
+      return {(static_cast<unsigned __int128>(std::bit_cast<std::uint64_t>(f)) << 64) |
+              (static_cast<unsigned __int128>(h_rank) << 32) | entry};
     }
+    std::uint32_t entry() const { return static_cast<std::uint32_t>(key); }
+    bool operator>(const OpenItem& o) const { return key > o.key; }
   };
   // The entry of r, created (dist 0, no parent, weight not computed) when new; `fresh` says so.
   std::uint32_t entry_of(RegionId r, bool& fresh) {
     const std::uint32_t k = slots_.find_or_insert(r, static_cast<std::uint32_t>(entries_.size()), fresh);
     if (fresh) {
-      entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, false});
+      entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, 0, false});
       heap_pos_.push_back(kNotQueued);
     }
     return k;
