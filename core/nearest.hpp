@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 // nanoflann 1.4's dynamic index leaves root_bbox uninitialized until the first build; GCC's
@@ -70,10 +71,8 @@ class NearestNeighbors {
   // Adds node `id` (ids must be added densely in order 0, 1, 2, ...). One writer at a time, and
   // no query in flight.
   void add(NodeId id, std::span<const double> x) {
-    const std::size_t i = points_.count.load(std::memory_order_relaxed);
-    points_.rows.ensure(i);
-    metric_.project(x, points_.rows.row(i));
-    points_.count.store(i + 1, std::memory_order_release);
+    metric_.project(x, std::span<double>(points_.append(), metric_.dim()));
+    ++points_.count;
     index_->add(id);
   }
   // Adds the nodes first, first + 1, ... whose states are the rows of `states` (n values each).
@@ -81,7 +80,7 @@ class NearestNeighbors {
     const std::size_t n = metric_.dim();
     for (std::size_t k = 0; k * n < states.size(); ++k) add(first + static_cast<NodeId>(k), states.subspan(k * n, n));
   }
-  std::size_t size() const { return points_.count.load(std::memory_order_acquire); }
+  std::size_t size() const { return points_.count; }
 
   Neighbor nearest(std::span<const double> x) const {
     Neighbor n;
@@ -129,12 +128,28 @@ class NearestNeighbors {
   }
 
  private:
-  struct Points {  // nanoflann dataset adaptor over projected rows
-    explicit Points(std::size_t dim) : rows(dim) {}
-    SegmentedRows<double> rows;
-    std::atomic<std::size_t> count{0};
-    std::size_t kdtree_get_point_count() const { return count.load(std::memory_order_acquire); }
-    double kdtree_get_pt(std::size_t i, std::size_t d) const { return rows.row(i)[d]; }
+  // nanoflann's dataset adaptor over the projected rows. Its own plain segment directory (not
+  // SegmentedRows' atomic one): the KD-tree reads kdtree_get_pt once per coordinate of every
+  // point it visits, and atomic loads there cost 8x per query (GCC cannot merge them). Plain
+  // is safe because the index has one writer and queries run only while it is frozen; the
+  // round structure (parallel_slots) orders the writer's inserts before the next round's queries.
+  struct Points {
+    explicit Points(std::size_t dim_) : dim(dim_) {}
+    std::size_t dim;
+    std::array<std::unique_ptr<double[]>, SegmentedRows<double>::kSegments> segments{};
+    std::size_t count = 0;
+    double* row(std::size_t i) const {
+      const auto [seg, off] = SegmentedRows<double>::locate(i);
+      return segments[seg].get() + off * dim;
+    }
+    double* append() {  // the next row, its segment allocated on first use
+      const auto [seg, off] = SegmentedRows<double>::locate(count);
+      if (seg >= segments.size()) throw std::length_error("a nearest-neighbour index holds at most 2^32 - 1024 points");
+      if (!segments[seg]) segments[seg] = std::make_unique<double[]>((std::size_t{1024} << seg) * dim);
+      return segments[seg].get() + off * dim;
+    }
+    std::size_t kdtree_get_point_count() const { return count; }
+    double kdtree_get_pt(std::size_t i, std::size_t d) const { return row(i)[d]; }
     template <class BBox>
     bool kdtree_get_bbox(BBox&) const { return false; }
   };
