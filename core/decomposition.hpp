@@ -47,7 +47,8 @@ class Decomposition {
     return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   }
   // A lower bound on the number of G_D edges from r to an unsafe region (0 = none known; inf =
-  // no path): the A* heuristic of the lead search. Must not overestimate the hop count. (What a
+  // no path): the A* heuristic of the lead search. Must not overestimate the hop count, and is
+  // a whole number (the lead search ranks regions by it in its queue key). (What a
   // hop costs is the planner's choice: HyDICE prices it at the cost of an edge on unreached
   // ground, which can exceed an edge's cost inside its tree: a weighted A*, see hydice.cpp.)
   virtual double hops_to_unsafe(RegionId) const { return 0.0; }
