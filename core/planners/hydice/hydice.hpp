@@ -2,8 +2,11 @@
 // (core/decomposition.hpp) computes leads that guide a sampling-based motion planner.
 // The pieces below are exposed for the tests.
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -29,14 +32,74 @@ double hydice_selection_weight(const HydiceExponents& e, double vol, double cov,
 // it is the shortest path for edge cost 1/(w(a) w(b)) (Dijkstra over the implicit graph);
 // with `rng` instead (weight empty) every edge gets an independent cost uniform in (0, 1], a
 // random path (Sect. 3.2.3). A* with h(r) = heuristic_edge_cost * d.hops_to_unsafe(r) (0: plain
-// Dijkstra); regions with no path to an unsafe one (hops = inf) are pruned. Empty when no unsafe
+// Dijkstra), expanded regions never reopened: the exact shortest path when that h never
+// overestimates, a weighted (greedier) search otherwise; regions with no path to an unsafe one
+// (hops = inf) are pruned. Empty when no unsafe
 // region is reachable or `max_expanded` regions were expanded without reaching one.
 std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
                                   const std::function<double(RegionId)>& weight, Rng* rng,
                                   double heuristic_edge_cost = 0.0, std::size_t max_expanded = 50'000'000);
 
-// The lead search with its workspace kept between leads (an open-addressing table of the
-// regions touched, reset in O(1) by a stamp; a binary heap): no allocation per lead once warm.
+// RegionId -> uint32 map for the per-region data of the lead search and the planner. With a
+// dense decomposition (Decomposition::dense_size() > 0) a paged flat array indexed by
+// dense_index(r): pages of 2^kPageBits indices, allocated when first touched, so that memory
+// follows the regions touched rather than |V_D| (67 M regions at navigation 4096²); otherwise
+// open addressing on splitmix64(r) with load <= 1/2. clear() is O(1): an entry is live only
+// when it carries the stamp of the current generation.
+class RegionSlots {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  // Chooses the layout for d's ids and clears; a no-op (beyond clear) when d is the one attached.
+  void attach(const Decomposition& d);
+  void clear();
+  std::uint32_t find(RegionId r) const;  // kNone when absent
+  // Hints the cache with r's cell (dense layout only): the lead search touches a region's
+  // neighbours one after another, each a likely cache miss, so it requests them all first.
+  void prefetch(RegionId r) const {
+    if (!dense_) return;
+    const std::uint64_t i = dec_->dense_index(r);
+    if (const auto& page = pages_[i >> kPageBits]) __builtin_prefetch(&page[i & kPageMask]);
+  }
+  // The value of r; when r is absent, `value` is inserted for it and `fresh` set.
+  std::uint32_t find_or_insert(RegionId r, std::uint32_t value, bool& fresh) {
+    if (dense_) {
+      const std::uint64_t i = dec_->dense_index(r);
+      std::unique_ptr<DenseCell[]>& page = pages_[i >> kPageBits];
+      if (!page) page = new_page();
+      DenseCell& c = page[i & kPageMask];
+      fresh = c.stamp != stamp_;
+      if (fresh) c = DenseCell{value, stamp_};
+      return c.value;
+    }
+    return hashed_find_or_insert(r, value, fresh);
+  }
+
+ private:
+  // 2^12 indices (32 KB) a page: navigation's ids run row-major over the terrains (4 per
+  // terrain), so a page is a strip of 1024 terrains, and the page table at 4096² has 16 k entries.
+  static constexpr unsigned kPageBits = 12;
+  static constexpr std::uint64_t kPageMask = (std::uint64_t{1} << kPageBits) - 1;
+  struct DenseCell {
+    std::uint32_t value = 0, stamp = 0;
+  };
+  struct HashSlot {
+    RegionId region = 0;
+    std::uint32_t value = 0, stamp = 0;
+  };
+  std::unique_ptr<DenseCell[]> new_page() const;
+  std::uint32_t hashed_find_or_insert(RegionId r, std::uint32_t value, bool& fresh);
+  void grow();
+  const Decomposition* dec_ = nullptr;
+  std::uint64_t dense_size_ = 0;
+  bool dense_ = false;
+  std::vector<std::unique_ptr<DenseCell[]>> pages_;
+  std::vector<HashSlot> table_;
+  std::size_t live_ = 0;  // live entries of the hash table
+  std::uint32_t stamp_ = 1;
+};
+
+// The lead search with its workspace kept between leads (the regions touched indexed by a
+// RegionSlots, reset in O(1); an indexed 4-ary heap): no allocation per lead once warm.
 class LeadSearch {
  public:
   // As hydice_lead.
@@ -47,31 +110,44 @@ class LeadSearch {
 
  private:
   static constexpr std::uint32_t kNoParent = 0xffffffffu;
+  static constexpr std::uint32_t kNotQueued = 0xffffffffu;
   struct Entry {
     RegionId region;
     double dist, w, h;
     std::uint32_t parent;
+    std::uint32_t h_rank;  // orders h (see OpenItem)
     bool done;
   };
-  struct Slot {
-    RegionId region = 0;
-    std::uint32_t entry = 0;
-    std::uint32_t stamp = 0;
-  };
-  struct OpenItem {  // A* queue entry: f = dist + h, ties to the smaller h (deeper)
-    double f, h;
-    std::uint32_t entry;
-    bool operator>(const OpenItem& o) const {
-      return f > o.f || (f == o.f && (h > o.h || (h == o.h && entry > o.entry)));
+  // A* queue entry, ordered by f = dist + h, ties to the smaller h (the deeper region), then to
+  // the older entry, packed into one 128-bit key compared as an integer (the heap's
+  // comparisons were its cost): the bits of f (>= 0, so its IEEE bits order as the number),
+  // then h's rank, then the entry. h = c x hops with c > 0 the same for every region of a search
+  // (or h = 0 when c = 0: rank 0), so hops (a whole number of G_D edges) ranks h.
+  struct OpenItem {
+    unsigned __int128 key;
+    static OpenItem make(double f, std::uint32_t h_rank, std::uint32_t entry) {
+      return {(static_cast<unsigned __int128>(std::bit_cast<std::uint64_t>(f)) << 64) |
+              (static_cast<unsigned __int128>(h_rank) << 32) | entry};
     }
+    std::uint32_t entry() const { return static_cast<std::uint32_t>(key); }
+    bool operator>(const OpenItem& o) const { return key > o.key; }
   };
-  std::size_t slot_of(RegionId r);  // the entry of r, created (dist 0, no parent) when new
-  void grow();
-  std::vector<Slot> table_;
+  // The entry of r, created (dist 0, no parent, weight not computed) when new; `fresh` says so.
+  std::uint32_t entry_of(RegionId r, bool& fresh) {
+    const std::uint32_t k = slots_.find_or_insert(r, static_cast<std::uint32_t>(entries_.size()), fresh);
+    if (fresh) {
+      entries_.push_back(Entry{r, 0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, kNoParent, 0, false});
+      heap_pos_.push_back(kNotQueued);
+    }
+    return k;
+  }
+  RegionSlots slots_;
   std::vector<Entry> entries_;
+  // The index in open_ of each entry (kNotQueued when not queued), apart from the entries so
+  // that the heap's moves write 4 bytes into a dense array rather than into a 40-byte entry.
+  std::vector<std::uint32_t> heap_pos_;
   std::vector<OpenItem> open_;
   std::vector<RegionId> nb_;
-  std::uint32_t stamp_ = 0;
   std::size_t expanded_ = 0;
 };
 

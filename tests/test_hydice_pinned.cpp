@@ -1,0 +1,134 @@
+// HyDICE / HyDICE[NoLeads] at batch = 1 pinned to the numbers recorded before the issue-12 work
+// on the lead search (dense indexing, cached weights) and the planner's restructuring: the same
+// leads must come out in the same A* order, so nodes, propagations, integration steps, lead
+// counts, lead expansions and the witness's end state stay bit for bit what they were (the
+// committed paper tables depend on it). Each trial is capped by nodes, not time, so that it is a
+// deterministic function of its seed.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "core/options.hpp"
+#include "core/planner.hpp"
+#include "core/rng.hpp"
+#include "core/system.hpp"
+#include "core/trajectory.hpp"
+#include "suites/registry.hpp"
+
+namespace hyfal {
+namespace {
+
+struct Pinned {
+  const char* method;
+  int n;
+  const char* driver;
+  int property;
+  const char* status;
+  std::int64_t nodes, propagations, integration_steps, leads, lead_expansions;
+  std::uint64_t end_hash;  // splitmix64 chain over the witness's final_x bits (0: no witness)
+};
+
+std::uint64_t hash_state(const std::vector<double>& x) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (double v : x) {
+    std::uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    h = splitmix64(h ^ b);
+  }
+  return h;
+}
+
+Pinned run(const char* method, int n, const char* driver, int property, std::int64_t max_nodes) {
+  const SuiteEntry* s = find_suite("navigation");
+  auto sys = s->make(resolve_options(
+      s->parameters, {{"n", std::to_string(n)}, {"property", std::to_string(property)}, {"driver", driver}}));
+  auto planner = find_method(method)->make(resolve_options(find_method(method)->options, {}));
+  const PlannerContext ctx{*sys, sys->info().parameters, 77, PlannerLimits{1e6, max_nodes}, {}};
+  const PlannerOutcome out = planner->solve(ctx);
+  Pinned p{method, n, driver, property, "", out.counters.nodes, out.counters.propagations,
+           out.counters.integration_steps, 0, 0, 0};
+  p.status = out.status == TrialStatus::falsified ? "falsified"
+             : out.status == TrialStatus::node_cap ? "node_cap"
+                                                   : "other";
+  if (out.metrics.contains("leads")) {
+    p.leads = out.metrics["leads"].get<std::int64_t>();
+    p.lead_expansions = out.metrics["lead_expansions"].get<std::int64_t>();
+  }
+  if (out.trajectory) p.end_hash = hash_state(out.trajectory->final_x);
+  return p;
+}
+
+// Recorded at commit bc57236 (before the change), Release build.
+const Pinned kPinned[] = {
+#include "test_hydice_pinned.inc"
+};
+
+TEST(HydicePinned, BatchOneReproducesThePreChangeTrials) {
+  for (const Pinned& want : kPinned) {
+    const std::int64_t cap = want.n >= 256 ? 150'000 : 60'000;
+    const Pinned got = run(want.method, want.n, want.driver, want.property, cap);
+    std::printf("  {\"%s\", %d, \"%s\", %d, \"%s\", %lld, %lld, %lld, %lld, %lld, 0x%016llxull},\n", got.method,
+                got.n, got.driver, got.property, got.status, static_cast<long long>(got.nodes),
+                static_cast<long long>(got.propagations), static_cast<long long>(got.integration_steps),
+                static_cast<long long>(got.leads), static_cast<long long>(got.lead_expansions),
+                static_cast<unsigned long long>(got.end_hash));
+    const std::string what = std::string(want.method) + " n=" + std::to_string(want.n) + " " + want.driver +
+                             " property " + std::to_string(want.property);
+    EXPECT_STREQ(got.status, want.status) << what;
+    EXPECT_EQ(got.nodes, want.nodes) << what;
+    EXPECT_EQ(got.propagations, want.propagations) << what;
+    EXPECT_EQ(got.integration_steps, want.integration_steps) << what;
+    EXPECT_EQ(got.leads, want.leads) << what;
+    EXPECT_EQ(got.lead_expansions, want.lead_expansions) << what;
+    EXPECT_EQ(got.end_hash, want.end_hash) << what;
+  }
+}
+
+// A batch (B = 8 slots a round, each with its own stream) gives the same trial on 1 and on 2
+// threads: status, counters, lead statistics and the witness, piece by piece.
+TEST(HydiceBatch, SameTrialOnOneAndTwoThreads) {
+  for (const char* method : {"hydice", "hydice-noleads"}) {
+    for (const char* driver : {"random", "highway"}) {
+      const SuiteEntry* s = find_suite("navigation");
+      auto sys = s->make(resolve_options(s->parameters, {{"n", "64"}, {"property", "1"}, {"driver", driver}}));
+      auto solve = [&](int threads) {
+        auto planner = find_method(method)->make(resolve_options(find_method(method)->options, {{"batch", "8"}}));
+        const PlannerContext ctx{*sys, sys->info().parameters, 77, PlannerLimits{1e6, 60'000}, {}};
+        PlannerOutcome out;
+        tbb::task_arena arena(threads);
+        arena.execute([&] { out = planner->solve(ctx); });
+        return out;
+      };
+      const PlannerOutcome one = solve(1), two = solve(2);
+      const std::string what = std::string(method) + " " + driver;
+      std::printf("  %s batch 8: %s, %lld nodes, %lld propagations\n", what.c_str(),
+                  one.status == TrialStatus::falsified ? "falsified" : "not falsified",
+                  static_cast<long long>(one.counters.nodes), static_cast<long long>(one.counters.propagations));
+      EXPECT_EQ(one.status, two.status) << what;
+      EXPECT_EQ(one.counters.nodes, two.counters.nodes) << what;
+      EXPECT_EQ(one.counters.propagations, two.counters.propagations) << what;
+      EXPECT_EQ(one.counters.integration_steps, two.counters.integration_steps) << what;
+      EXPECT_EQ(one.metrics.dump(), two.metrics.dump()) << what;
+      ASSERT_EQ(one.trajectory.has_value(), two.trajectory.has_value()) << what;
+      if (!one.trajectory) continue;
+      ASSERT_EQ(one.trajectory->pieces.size(), two.trajectory->pieces.size()) << what;
+      for (std::size_t i = 0; i < one.trajectory->pieces.size(); ++i) {
+        const auto& a = one.trajectory->pieces[i];
+        const auto& b = two.trajectory->pieces[i];
+        EXPECT_EQ(a.mode, b.mode);
+        EXPECT_EQ(a.u, b.u);
+        EXPECT_EQ(a.duration, b.duration);
+        EXPECT_EQ(a.x_end, b.x_end);
+      }
+      EXPECT_EQ(one.trajectory->final_x, two.trajectory->final_x) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hyfal
