@@ -34,7 +34,9 @@ def run(hyfal, workdir, name, suite, method, sets, trials, threads, timeout=600,
     for s in sets:
         cmd += ["--set", s]
     t0 = time.monotonic()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    rc = subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode
+    if rc not in (0, 1):  # 1: some trial ended in error (reported in the outcome column)
+        sys.exit(f"{' '.join(cmd)}: exit code {rc}")
     wall = time.monotonic() - t0
     con = sqlite3.connect(db)
     rows = con.execute("select trial_index, status, nodes, propagations, wall_s, cpu_s from trials "

@@ -63,7 +63,11 @@
 //    re-simulates it from x0 with tight Dormand-Prince, so the error that counts is the
 //    accumulated one, measured relative to 1 + |x_i| (positions near 0 at the start and on the
 //    edge x2 = 0 of S). Measured over 20 RRT witnesses: largest error 5e-7 at 0.01 s (1.4e-6 at
-//    0.0125 s, 2e-6 at 0.025 s). witness_tolerance = 1e-5 leaves a margin of 20.
+//    0.0125 s, 2e-6 at 0.025 s). The tail is heavy (the vortex wind can amplify a small
+//    difference along a path; issue 12: 1.6e-6 over 9 sequential RRT witnesses, and one of
+//    8 witnesses of RRT with batch = 8 at 1.38e-5, at piece 124 of 126, the others <= 5.5e-7).
+//    witness_tolerance = 1e-4 (2 cm on the 200 m scale of the course) keeps a margin of 7 over
+//    the largest error seen; the re-simulated path must still end in S (s <= tol).
 //  - x_rand: (x1, x2) in [-250, 250]² (the vortex, the goal and a margin), θ in [-π, π],
 //    v1, v2 in [-25, 25] m/s (the vortex edge speed plus slip), ω in [-2, 2] rad/s. θ is not
 //    wrapped (the craft may turn several times); the metric treats it as a plain coordinate.
@@ -173,7 +177,7 @@ std::shared_ptr<const System> make_hovercraft(const Json& instance) {
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = rk4_step;
   info.integrator.max_step = rk4_step;
-  info.witness_tolerance = 1e-5;
+  info.witness_tolerance = 1e-4;
   return std::make_shared<ModelSystem<Hovercraft>>(Hovercraft(alpha, beta, levels), std::move(info));
 }
 
