@@ -20,14 +20,7 @@ constexpr std::uint64_t kPointSeed = 20240601;
 constexpr std::uint64_t kQuerySeed = 7;
 constexpr double kShortMinTime = 0.2;  // queries take microseconds: 0.2 s is 10^4+ samples
 
-// `count` points uniform in [0, 1]^kDim, row-major. A fixed seed: every run sees the same cloud.
-std::vector<double> uniform_points(std::size_t count, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<double> points(count * kDim);
-  for (double& v : points) v = unit(rng);
-  return points;
-}
+std::vector<double> uniform_points(std::size_t count, std::uint64_t seed) { return uniform_cloud(count, kDim, seed); }
 
 std::span<const double> row(const std::vector<double>& points, std::size_t i) {
   return {points.data() + i * kDim, kDim};

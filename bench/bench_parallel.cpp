@@ -14,6 +14,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "bench/bench_support.hpp"
 #include "core/nearest.hpp"
 #include "core/tree.hpp"
 
@@ -22,13 +23,7 @@ namespace {
 
 constexpr std::size_t kDim = 6;
 
-std::vector<double> cloud(std::size_t count, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<double> points(count * kDim);
-  for (double& v : points) v = unit(rng);
-  return points;
-}
+std::vector<double> cloud(std::size_t count, std::uint64_t seed) { return uniform_cloud(count, kDim, seed); }
 
 // 2^17 appends of 6-D nodes (with a 2-D input) by `threads` threads into one fresh store.
 void BM_ConcurrentAppend(benchmark::State& state) {

@@ -1,6 +1,8 @@
 // Helpers shared by the hyfal microbenchmarks.
 #pragma once
+#include <cstdint>
 #include <memory>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -12,6 +14,15 @@
 #include "suites/registry.hpp"
 
 namespace hyfal::bench {
+
+// `count` points uniform in [0, 1]^dim, row-major. A fixed seed: every run sees the same cloud.
+inline std::vector<double> uniform_cloud(std::size_t count, std::size_t dim, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> points(count * dim);
+  for (double& v : points) v = unit(rng);
+  return points;
+}
 
 // A thermostat instance: the defaults, with `overrides` as `key=value` settings would give them.
 inline std::shared_ptr<const System> thermostat(
