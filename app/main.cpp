@@ -17,6 +17,7 @@
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
+#include "parallel/cluster.hpp"
 #include "parallel/trial_engine.hpp"
 #include "results/statistics.hpp"
 #include "results/store.hpp"
@@ -157,8 +158,10 @@ int cmd_run(const RunArgs& a) {
   if (!a.quiet) {
     std::size_t validated = 0;
     for (const auto& r : rows) validated += r.validated;
-    fmt::print("\n{} trials ({} run now), {} witnesses validated; threads {}; database {}; witnesses under {}\n",
-               rows.size(), jobs_run.run_now, validated, a.threads > 0 ? a.threads : default_thread_count(), a.db,
+    const Cluster* cluster = Cluster::current();
+    fmt::print("\n{} trials ({} run now), {} witnesses validated; {}threads {}; database {}; witnesses under {}\n",
+               rows.size(), jobs_run.run_now, validated, cluster ? fmt::format("{} MPI ranks x ", cluster->size()) : "",
+               a.threads > 0 ? a.threads : default_thread_count(), a.db,
                a.witness_dir);
   }
   return jobs_run.errors ? 1 : 0;
@@ -297,7 +300,45 @@ CLI::Validator positive_integer() {
       "N>0");
 }
 
+namespace {
+int run_command(int argc, char** argv);
+}  // namespace
+
+// Under mpirun every rank starts here: rank 0 runs the command (and coordinates the trials it
+// runs), the other ranks serve trials until rank 0 is done; see parallel/cluster.hpp.
 int main(int argc, char** argv) {
+  std::unique_ptr<Cluster> cluster;
+  try {
+    cluster = Cluster::join_if_launched(&argc, &argv);
+  } catch (const ClusterError& e) {
+    if (launcher_rank() == 0) fmt::print(stderr, "hyfal: error: {}\n", e.what());
+    return e.exit_code();
+  }
+  if (cluster && cluster->rank() > 0) {
+    const SystemResolver resolve = [](const std::string& suite_name, const std::string& instance) {
+      const SuiteEntry* suite = find_suite(suite_name);
+      if (!suite) return std::shared_ptr<const System>();
+      return suite->make(Json::parse(instance));
+    };
+    return cluster->serve(resolve, cli::git_commit());
+  }
+  if (cluster) {
+    try {
+      cluster->check_ranks(cli::git_commit());
+    } catch (const ClusterError& e) {
+      fmt::print(stderr, "hyfal: error: {}\n", e.what());
+      cluster->finish(e.exit_code());
+      return e.exit_code();
+    }
+  }
+  const int rc = run_command(argc, argv);
+  if (cluster) cluster->finish(rc);
+  return rc;
+}
+
+namespace {
+
+int run_command(int argc, char** argv) {
   CLI::App app{
       "hyfal: parallel benchmark harness for falsification of hybrid systems with RRT-family planners.\n"
       "Searches input sequences that drive a hybrid system into its unsafe set (s <= 0), records every\n"
@@ -311,6 +352,10 @@ int main(int argc, char** argv) {
 
   RunArgs ra;
   auto* run = app.add_subcommand("run", "run trials of one method on one suite instance; resumes a stored run");
+  run->footer(
+      "On a cluster: `mpirun -n K hyfal run ...` runs the same trials on K processes: rank 0 hands them out\n"
+      "and is the only one to write --db and --witness-dir; every rank runs --threads threads. Results equal\n"
+      "those of one process, and a run stopped at one K resumes at any other (README: Running on a cluster).");
   run->add_option("--suite", ra.suite, "suite name (see 'hyfal list')")->required();
   run->add_option("--method", ra.method, "method name")->capture_default_str();
   run->add_option("--set", ra.sets, "instance parameter or method option, key=value (repeatable)");
@@ -340,6 +385,7 @@ int main(int argc, char** argv) {
   auto* reproduce = app.add_subcommand(
       "reproduce", "run a paper table's rows (resuming) and write <out-dir>/ID.md and .csv beside the paper's numbers");
   reproduce->add_option("id", pa.id, "table id (see 'hyfal list')")->required();
+  reproduce->footer("Runs on a cluster like `run` does: `mpirun -n K hyfal reproduce ID --profile P` (see `hyfal run --help`).");
   reproduce->add_option("--profile", pa.profile, "smoke (seconds), quick (minutes) or paper (the paper's set-up)")
       ->required()
       ->check(CLI::IsMember({"smoke", "quick", "paper"}));
@@ -402,9 +448,14 @@ int main(int argc, char** argv) {
   } catch (const EnvironmentError& e) {
     fmt::print(stderr, "hyfal: error: {} (the run stopped; rerun the same command to resume)\n", e.what());
     return 3;
+  } catch (const ClusterError& e) {
+    fmt::print(stderr, "hyfal: error: {} (the run stopped; rerun the same command to resume)\n", e.what());
+    return e.exit_code();
   } catch (const std::exception& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 1;
   }
   return 0;
 }
+
+}  // namespace

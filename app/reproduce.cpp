@@ -1,5 +1,7 @@
 #include "app/reproduce.hpp"
 
+#include "parallel/cluster.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -182,6 +184,7 @@ std::vector<TrialJob> prepare_jobs(const TrialGroup& g, const std::set<std::int6
     job.method_options = g.options;
     job.limits = {g.spec.timeout_s, g.spec.max_nodes};
     job.seed = trial_seed(g.spec.seed, g.base.suite, g.base.instance, g.base.method, i);
+    job.priority = g.spec.priority;
     jobs.push_back(std::move(job));
   }
   return jobs;
@@ -222,9 +225,17 @@ JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const Eng
   const auto claim = [&](const TrialJob& job) { return store.claim(job.key, owner); };
 
   std::vector<TrialJob> pending = jobs;
+  // Higher priority first (a sweep's large cells), stable: otherwise in the order given.
+  std::stable_sort(pending.begin(), pending.end(),
+                   [](const TrialJob& x, const TrialJob& y) { return x.priority > y.priority; });
   bool waited = false;
   for (;;) {
-    if (!pending.empty()) run_trials(pending, engine, sink, claim);
+    if (!pending.empty()) {
+      if (Cluster* cluster = Cluster::current())
+        cluster->run_trials(pending, engine, sink, claim);  // on every rank of the MPI job
+      else
+        run_trials(pending, engine, sink, claim);
+    }
     pending.clear();
     const std::vector<TrialProgress> states = store.progress(keys, owner);
     std::size_t running_elsewhere = 0;
@@ -355,6 +366,9 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
           spec.timeout_s = profile.timeout_s;
           spec.max_nodes = profile.max_nodes;
           spec.seed = a.seed;
+          // A sweep's columns grow (|Q| from 1^2 to 1024^2, N from 10 to 20): the later a column,
+          // the longer its trials, so they start first and no rank is left with one at the end.
+          spec.priority = static_cast<int>(c);
           try {
             cells.push_back({b, r, c, resolve_trial_group(spec)});
           } catch (const std::invalid_argument& e) {

@@ -60,6 +60,7 @@ struct TrialGroupSpec {
   double timeout_s = 60.0;
   std::int64_t max_nodes = 1'000'000;
   std::uint64_t seed = 1;
+  int priority = 0;  // TrialJob::priority of its trials: a sweep's later (larger) columns first
 };
 
 // A spec resolved: the instance and options in canonical JSON, the system built, the trial key.

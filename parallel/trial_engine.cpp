@@ -85,8 +85,9 @@ std::string witness_path(const std::string& dir, const TrialKey& key) {
       .string();
 }
 
-TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
-  TrialRecord rec;
+TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
+  TrialResult result;
+  TrialRecord& rec = result.record;
   rec.key = job.key;
   rec.seed = job.seed;
   rec.host = options.host;
@@ -111,32 +112,40 @@ TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
       const Witness w = make_witness(*job.system, job.key.method, job.seed, std::move(*out.trajectory));
       const ValidationReport report = validate_witness(*job.system, w);
       rec.validated = report.valid;
-      if (!options.witness_dir.empty()) {
-        rec.witness = witness_path(options.witness_dir, job.key);
-        write_file_atomically(rec.witness, to_json(w).dump(1) + "\n");
-      }
+      result.witness_text = to_json(w).dump(1) + "\n";
       if (!report.valid) {  // a trial counts as falsified only if its witness validates
         rec.status = TrialStatus::error;
         rec.error = "witness failed validation: " + report.reason;
       }
     }
-  } catch (const EnvironmentError&) {
-    throw;  // not the trial's failure: the run stops (see run_trials)
   } catch (const std::exception& e) {
     rec.status = TrialStatus::error;
-    rec.validated = false;  // no witness on disk vouches for it
-    rec.witness.clear();
+    rec.validated = false;  // no witness vouches for it
+    result.witness_text.clear();
     rec.error = e.what();
   } catch (...) {
     rec.validated = false;
-    rec.witness.clear();
+    result.witness_text.clear();
     rec.status = TrialStatus::error;
     rec.error = "unknown exception";
   }
   rec.cpu_s = cpu.seconds();
   rec.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   rec.finished_at = iso8601_now();
-  return rec;
+  return result;
+}
+
+void keep_witness(TrialResult& result, const std::string& witness_dir) {
+  if (result.witness_text.empty() || witness_dir.empty()) return;
+  const std::string path = witness_path(witness_dir, result.record.key);
+  write_file_atomically(path, result.witness_text);
+  result.record.witness = path;
+}
+
+TrialRecord run_trial(const TrialJob& job, const EngineOptions& options) {
+  TrialResult result = compute_trial(job, options);
+  keep_witness(result, options.witness_dir);
+  return std::move(result.record);
 }
 
 void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,

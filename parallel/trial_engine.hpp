@@ -21,6 +21,9 @@ struct TrialJob {
   Json method_options;
   PlannerLimits limits;
   std::int64_t seed = 0;  // from trial_seed(): never from the thread
+  // Larger first: a distributed run hands out jobs of higher priority first (a table knows its
+  // expensive cells), so long trials do not start last and leave ranks idle at the end.
+  int priority = 0;
 };
 
 struct EngineOptions {
@@ -44,8 +47,24 @@ using TrialSink = std::function<void(const TrialRecord&)>;
 // skips the job (e.g. another process runs it).
 using TrialClaim = std::function<bool(const TrialJob&)>;
 
-// Runs one trial on the calling thread. Failures of the trial become status error; throws
-// EnvironmentError only when the witness cannot be written (no temporary file is left).
+// What one trial produced before anything is written: its record and, for a falsifying trial,
+// the text of its witness file (validated: record.validated says how it re-simulated).
+struct TrialResult {
+  TrialRecord record;
+  std::string witness_text;  // empty when the trial has no witness
+};
+
+// Runs one trial on the calling thread (and the arena's threads that help it) and writes
+// nothing: failures of the trial become status error. A worker rank of a distributed run sends
+// the result to rank 0, which keeps the witness and stores the record.
+TrialResult compute_trial(const TrialJob& job, const EngineOptions& options);
+
+// Writes the witness text (if any) to witness_path(witness_dir, key) atomically and records the
+// path; nothing without a witness or a folder. Throws EnvironmentError if it cannot be written
+// (no temporary file is left).
+void keep_witness(TrialResult& result, const std::string& witness_dir);
+
+// compute_trial, then keep_witness(options.witness_dir): the record as it is stored.
 TrialRecord run_trial(const TrialJob& job, const EngineOptions& options);
 
 // Runs all jobs on `options.threads` threads; `claim` (if set) is asked before each job starts,

@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -326,9 +328,52 @@ bool check_hyfal_schema(sqlite3* connection, const std::string& path) {
   return true;
 }
 
+// The database files this process has open through a TrialStore, by (device, inode), counted.
+// POSIX record locks belong to a process and a file, not to a descriptor: closing ANY descriptor
+// of the database file drops every lock SQLite holds on it through its own. A header read of
+// ours while a connection of this process is open would thus unlock the database under it: a
+// reader in another process would then take itself for the last connection, checkpoint and reset
+// the WAL under the writer, and see none of its later commits. So a file open here is not read
+// outside SQLite again (it was checked when it was first opened).
+class OpenDatabaseFiles {
+ public:
+  using Id = std::pair<dev_t, ino_t>;
+  static OpenDatabaseFiles& instance() {
+    static OpenDatabaseFiles files;
+    return files;
+  }
+  static std::optional<Id> id_of(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+    return Id{st.st_dev, st.st_ino};
+  }
+  bool contains(const Id& id) {
+    std::lock_guard lock(mutex_);
+    return counts_.count(id) != 0;
+  }
+  // Registers the file for as long as the returned token lives.
+  std::shared_ptr<const void> hold(const std::string& path) {
+    const auto id = id_of(path);
+    if (!id) return nullptr;
+    {
+      std::lock_guard lock(mutex_);
+      ++counts_[*id];
+    }
+    return std::shared_ptr<const void>(nullptr, [this, id = *id](const void*) {
+      std::lock_guard lock(mutex_);
+      if (--counts_[id] == 0) counts_.erase(id);
+    });
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<Id, int> counts_;
+};
+
 // Whether the file at path starts like a SQLite database (its 16-byte magic header). Reading it
 // ourselves first means a file that is not one is never handed to SQLite at all.
 bool has_sqlite_header(const std::string& path) {
+  if (const auto id = OpenDatabaseFiles::id_of(path); id && OpenDatabaseFiles::instance().contains(*id)) return true;
   std::ifstream in(path, std::ios::binary);
   char header[16] = {};
   in.read(header, sizeof header);
@@ -513,7 +558,10 @@ void TrialStore::StatementFinalizer::operator()(sqlite3_stmt* statement) const n
 }
 
 TrialStore::TrialStore(std::string path, Connection connection, bool writable)
-    : path_(std::move(path)), writable_(writable), connection_(std::move(connection)) {
+    : path_(std::move(path)),
+      writable_(writable),
+      open_file_(OpenDatabaseFiles::instance().hold(path_)),
+      connection_(std::move(connection)) {
   const char* key6 =
       "experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 AND trial_index = ?6";
   select_trial_indices_ = prepare(

@@ -184,6 +184,9 @@ class TrialStore {
 
   std::string path_;
   bool writable_ = false;
+  // Marks the file open in this process (see OpenDatabaseFiles in store.cpp) until after the
+  // connection has closed: declared before it, so destroyed after it.
+  std::shared_ptr<const void> open_file_;
   // The connection is declared before the statements so it is destroyed after them.
   Connection connection_;
   Statement insert_trial_;

@@ -741,6 +741,41 @@ TEST_F(CliTest, ResumeRunsOnlyMissingTrialsAndMatchesUninterruptedRun) {
 }
 
 // A run killed with SIGKILL mid-way leaves a database that opens and a rerun completes it.
+// Another process reading the database while a run writes it sees every commit as it lands.
+// (Regression: the run's second connection read the file's header with a descriptor of its own,
+// and closing it dropped the process's POSIX locks on the database; a reader then took itself for
+// the last connection, reset the WAL under the writer, and saw nothing more until the run ended.)
+TEST_F(CliTest, AReaderDuringARunSeesTheTrialsAsTheyAreStored) {
+  const std::string cmd = "cd " + quote(work().string()) + " && exec " + quote(HYFAL_BIN) +
+                          " run --suite thermostat --trials 150 --threads 1 --quiet --db db.sqlite --witness-dir wit"
+                          " >/dev/null 2>" + quote((io() / "reader.err").string());
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::vector<int> counts;
+  int status = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  while (waitpid(pid, &status, WNOHANG) == 0 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120)) {
+    const SqlResult r = sql(work() / "db.sqlite", "SELECT count(*) FROM trials");
+    if (r.ok && !r.rows.empty()) counts.push_back(std::stoi(r.rows[0][0]));
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  }
+  if (waitpid(pid, &status, WNOHANG) == 0) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+  }
+  ASSERT_EQ(decode_status(status), 0) << read_text(io() / "reader.err");
+  // Reads while the run went on: after the first that saw a trial, later ones saw more.
+  std::set<int> distinct;
+  for (const int c : counts)
+    if (c > 0 && c < 150) distinct.insert(c);
+  EXPECT_GE(distinct.size(), 3u) << "counts seen: " << ::testing::PrintToString(counts);
+  EXPECT_EQ(sql(work() / "db.sqlite", "SELECT count(*) FROM trials").rows.at(0).at(0), "150");
+}
+
 TEST_F(CliTest, KillNineLeavesResumableDatabase) {
   // The default instance (10-500 ms per trial): 200 trials on 2 threads take seconds, so the
   // kill lands mid-run. (sample_window=60 makes single trials take up to a minute, far too slow

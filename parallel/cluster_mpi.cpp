@@ -1,0 +1,631 @@
+// The MPI implementation of Cluster (parallel/cluster.hpp), built when CMake finds MPI.
+#include <mpi.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <thread>
+#include <utility>
+
+#include <fmt/format.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "parallel/cluster.hpp"
+
+namespace hyfal {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Message tags. A job and a result carry the coordinator's dispatch id in their first 8 bytes.
+enum Tag : int {
+  kHello = 1,   // worker -> 0: protocol, build, host, pid
+  kWelcome,     // 0 -> worker: threads per rank
+  kRefuse,      // 0 -> worker: the run cannot use it (another build)
+  kJob,         // 0 -> worker: id + encode_job
+  kResult,      // worker -> 0: id + encode_result
+  kFatal,       // worker -> 0: this rank cannot run trials (message)
+  kCancel,      // 0 -> worker: stop and drop the trials in flight
+  kStop,        // 0 -> worker: the command is over
+  kHeartbeat,   // both ways, every second, handled by the link thread
+  kLost = -1,   // not sent: the link reports a peer silent for the peer timeout
+  kLocal = -2,  // not sent: a result of rank 0's own executor
+};
+constexpr int kProtocol = 1;
+
+std::string with_id(std::uint64_t id, const std::string& payload) {
+  std::string out(8, '\0');
+  std::memcpy(out.data(), &id, 8);
+  return out + payload;
+}
+std::pair<std::uint64_t, std::string> split_id(const std::string& bytes) {
+  if (bytes.size() < 8) throw std::invalid_argument("malformed message: no dispatch id");
+  std::uint64_t id = 0;
+  std::memcpy(&id, bytes.data(), 8);
+  return {id, bytes.substr(8)};
+}
+std::string cbor(const Json& j) {
+  const std::vector<std::uint8_t> b = Json::to_cbor(j);
+  return {b.begin(), b.end()};
+}
+Json uncbor(const std::string& bytes) {
+  Json j = Json::from_cbor(bytes, true, false);
+  if (j.is_discarded() || !j.is_object()) throw std::invalid_argument("malformed control message");
+  return j;
+}
+
+// What a process receives: a message from a peer, a lost peer, or a local result.
+struct Event {
+  int peer = 0;
+  int tag = 0;
+  std::string bytes;
+  std::uint64_t id = 0;
+  std::optional<TrialResult> local;
+};
+
+class EventQueue {
+ public:
+  void push(Event e) {
+    {
+      std::lock_guard lock(mutex_);
+      events_.push_back(std::move(e));
+    }
+    cv_.notify_one();
+  }
+  std::optional<Event> pop(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    if (!cv_.wait_for(lock, timeout, [&] { return !events_.empty(); })) return std::nullopt;
+    Event e = std::move(events_.front());
+    events_.pop_front();
+    return e;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<Event> events_;
+};
+
+// The one thread of a process that calls MPI: it initializes and finalizes MPI, sends what the
+// other threads queue (non-blocking sends, so two ranks sending large messages to each other
+// cannot deadlock), receives into the event queue, and exchanges heartbeats.
+class MpiLink {
+ public:
+  MpiLink(int* argc, char*** argv, EventQueue& events) : events_(events) {
+    thread_ = std::thread([this, argc, argv] { loop(argc, argv); });
+    std::unique_lock lock(mutex_);
+    cv_.wait(lock, [&] { return ready_; });
+    if (!init_error_.empty()) {
+      lock.unlock();
+      thread_.join();
+      throw ClusterError(3, init_error_);
+    }
+  }
+  MpiLink(const MpiLink&) = delete;
+  MpiLink& operator=(const MpiLink&) = delete;
+  ~MpiLink() {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  void send(int peer, int tag, std::string bytes) {
+    {
+      std::lock_guard lock(mutex_);
+      outbox_.push_back({peer, tag, std::move(bytes)});
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  struct Outgoing {
+    int peer, tag;
+    std::string bytes;
+  };
+  struct InFlight {
+    MPI_Request request;
+    std::unique_ptr<std::string> bytes;  // stays put until the send completes
+    int peer;
+  };
+
+  void loop(int* argc, char*** argv) {
+    int provided = 0;
+    if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
+      std::lock_guard lock(mutex_);
+      init_error_ = "MPI_Init_thread failed: this rank cannot join the MPI job";
+      ready_ = true;
+      cv_.notify_all();
+      return;
+    }
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    const auto timeout = std::chrono::duration<double>(peer_timeout_seconds());
+    const auto start = Clock::now();
+    // Rank 0 watches every worker; a worker watches rank 0 only.
+    std::vector<int> peers;
+    if (rank_ == 0)
+      for (int r = 1; r < size_; ++r) peers.push_back(r);
+    else
+      peers.push_back(0);
+    std::map<int, Clock::time_point> last_seen;
+    std::set<int> dead;
+    for (int p : peers) last_seen[p] = start;
+    {
+      std::lock_guard lock(mutex_);
+      ready_ = true;
+    }
+    cv_.notify_all();
+
+    std::vector<InFlight> sending;
+    auto next_beat = start;
+    std::optional<Clock::time_point> stop_deadline;
+    const auto isend = [&](int peer, int tag, std::string bytes) {
+      InFlight f{MPI_REQUEST_NULL, std::make_unique<std::string>(std::move(bytes)), peer};
+      if (MPI_Isend(f.bytes->data(), static_cast<int>(f.bytes->size()), MPI_BYTE, peer, tag, MPI_COMM_WORLD,
+                    &f.request) == MPI_SUCCESS)
+        sending.push_back(std::move(f));
+    };
+    for (;;) {
+      bool busy = false;
+      std::vector<Outgoing> out;
+      bool stopping = false;
+      {
+        std::lock_guard lock(mutex_);
+        out.swap(outbox_);
+        stopping = stopping_;
+      }
+      for (auto& o : out) {
+        busy = true;
+        if (!dead.count(o.peer)) isend(o.peer, o.tag, std::move(o.bytes));
+      }
+      for (std::size_t i = 0; i < sending.size();) {
+        int done = 0;
+        if (MPI_Test(&sending[i].request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS || done) {
+          sending[i] = std::move(sending.back());
+          sending.pop_back();
+        } else {
+          ++i;
+        }
+      }
+      for (;;) {
+        int flag = 0;
+        MPI_Status status;
+        if (MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status) != MPI_SUCCESS || !flag) break;
+        int count = 0;
+        MPI_Get_count(&status, MPI_BYTE, &count);
+        std::string bytes(static_cast<std::size_t>(std::max(count, 0)), '\0');
+        MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        busy = true;
+        const int source = status.MPI_SOURCE;
+        if (dead.count(source) || !last_seen.count(source)) continue;  // a lost peer stays lost
+        last_seen[source] = Clock::now();
+        if (status.MPI_TAG != kHeartbeat) events_.push(Event{source, status.MPI_TAG, std::move(bytes), 0, std::nullopt});
+      }
+      const auto now = Clock::now();
+      if (now >= next_beat) {
+        for (int p : peers)
+          if (!dead.count(p)) isend(p, kHeartbeat, {});
+        next_beat = now + std::chrono::seconds(1);
+      }
+      for (int p : peers)
+        if (!dead.count(p) && now - last_seen[p] > timeout) {
+          dead.insert(p);
+          events_.push(Event{p, kLost, {}, 0, std::nullopt});
+        }
+      if (stopping) {
+        // Flush what is queued (a STOP, a last result), but never wait long for a peer that is
+        // gone: a send to it may never complete.
+        if (!stop_deadline) stop_deadline = now + std::chrono::seconds(5);
+        bool pending = false;
+        for (const auto& f : sending) pending = pending || !dead.count(f.peer);
+        std::lock_guard lock(mutex_);
+        if (outbox_.empty() && (!pending || now > *stop_deadline)) break;
+      }
+      if (!busy) {
+        std::unique_lock lock(mutex_);
+        cv_.wait_for(lock, std::chrono::milliseconds(1), [&] { return !outbox_.empty() || (stopping_ && !stopping); });
+      }
+    }
+    for (auto& f : sending) {
+      int done = 0;
+      MPI_Test(&f.request, &done, MPI_STATUS_IGNORE);
+      if (!done) {
+        MPI_Cancel(&f.request);
+        MPI_Request_free(&f.request);
+      }
+    }
+    MPI_Finalize();
+  }
+
+  EventQueue& events_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool ready_ = false, stopping_ = false;
+  std::string init_error_;
+  std::vector<Outgoing> outbox_;
+  int rank_ = 0, size_ = 1;
+  std::thread thread_;
+};
+
+// Runs trials on its own oneTBB arena of `threads` threads, each trial one task, so that threads
+// without a trial of their own help the running ones (parallel_slots steals on this arena).
+// Results go to `done` on the thread that ran the trial, unless the executor was cancelled.
+class TrialExecutor {
+ public:
+  using Done = std::function<void(std::uint64_t id, TrialResult&&)>;
+  TrialExecutor(int threads, EngineOptions options, Done done)
+      : threads_(threads > 0 ? threads : default_thread_count()),
+        // Every arena thread is a worker (no slot kept for a master thread that never joins),
+        // so the process needs threads_ workers plus the master TBB counts.
+        control_(tbb::global_control::max_allowed_parallelism,
+                 std::max<std::size_t>(threads_ + 1,
+                                       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism))),
+        arena_(threads_, 0),
+        options_(std::move(options)),
+        done_(std::move(done)) {
+    options_.cancel = stop_.get_token();
+    options_.witness_dir.clear();  // rank 0 writes the witnesses
+  }
+  TrialExecutor(const TrialExecutor&) = delete;
+  TrialExecutor& operator=(const TrialExecutor&) = delete;
+  ~TrialExecutor() {
+    cancel();
+    wait();
+  }
+
+  int threads() const { return threads_; }
+
+  void submit(std::uint64_t id, TrialJob job) {
+    {
+      std::lock_guard lock(mutex_);
+      ++in_flight_;
+    }
+    arena_.enqueue([this, id, job = std::move(job)] {
+      TrialResult r = compute_trial(job, options_);
+      r.record.threads = threads_;
+      if (!stop_.stop_requested()) done_(id, std::move(r));
+      std::lock_guard lock(mutex_);  // notify under the lock: the executor may be destroyed right after
+      --in_flight_;
+      idle_.notify_all();
+    });
+  }
+  // Asks the trials in flight to stop; their results are dropped.
+  void cancel() { stop_.request_stop(); }
+  void wait() {
+    std::unique_lock lock(mutex_);
+    idle_.wait(lock, [&] { return in_flight_ == 0; });
+  }
+
+ private:
+  int threads_;
+  tbb::global_control control_;
+  tbb::task_arena arena_;
+  EngineOptions options_;
+  Done done_;
+  std::stop_source stop_;
+  std::mutex mutex_;
+  std::condition_variable idle_;
+  int in_flight_ = 0;
+};
+
+std::string build_identity(const std::string& git_commit) {
+  // A test can make one rank claim another build (the version check cannot be tested otherwise).
+  if (const char* fake = std::getenv("HYFAL_TEST_BUILD_ID"); fake && *fake) return fake;
+  return git_commit;
+}
+
+Cluster* g_current = nullptr;
+
+class MpiCluster final : public Cluster {
+ public:
+  MpiCluster(int* argc, char*** argv) : link_(argc, argv, events_) { g_current = this; }
+  ~MpiCluster() override {
+    g_current = nullptr;
+    if (link_.rank() == 0 && !finished_) finish(1);
+  }
+
+  int rank() const override { return link_.rank(); }
+  int size() const override { return link_.size(); }
+
+  int serve(const SystemResolver& resolve, const std::string& git_commit) override;
+  void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
+                  const TrialClaim& claim) override;
+  void finish(int rc) override {
+    finished_ = true;
+    for (int w = 1; w < size(); ++w)
+      if (workers_[w].state != Worker::dead) link_.send(w, kStop, cbor({{"rc", rc}}));
+  }
+
+ private:
+  struct Worker {
+    // unknown: no hello yet; greeted: same build, no threads yet; ready: welcomed with threads.
+    enum State { unknown, greeted, ready, dead, refused } state = unknown;
+    int threads = 1, default_threads = 1;
+    std::string host;
+  };
+  void on_hello(int w, const Event& e, const std::string& git_commit);
+
+ public:
+  void check_ranks(const std::string& git_commit) override;
+
+ private:
+
+  EventQueue events_;
+  MpiLink link_;
+  std::map<int, Worker> workers_;
+  std::uint64_t next_id_ = 1;
+  bool finished_ = false;
+};
+
+void MpiCluster::on_hello(int w, const Event& e, const std::string& git_commit) {
+  Worker& worker = workers_[w];
+  const Json hello = uncbor(e.bytes);
+  worker.host = hello.value("host", std::string("?"));
+  worker.default_threads = std::max(1, hello.value("default_threads", 1));
+  const std::string mine = build_identity(git_commit);
+  const std::string theirs = hello.value("build", std::string());
+  if (hello.value("protocol", 0) != kProtocol || theirs != mine) {
+    worker.state = Worker::refused;
+    link_.send(w, kRefuse, {});
+    throw ClusterError(2, fmt::format("rank {} (host {}) runs hyfal built from '{}' (protocol {}), rank 0 from '{}' "
+                                      "(protocol {}): every rank must run the same build",
+                                      w, worker.host, theirs, hello.value("protocol", 0), mine, kProtocol));
+  }
+  worker.state = Worker::greeted;
+}
+
+void MpiCluster::check_ranks(const std::string& git_commit) {
+  for (int w = 1; w < size(); ++w) workers_[w];
+  const auto waiting = [&] {
+    for (const auto& [w, worker] : workers_)
+      if (worker.state == Worker::unknown) return true;
+    return false;
+  };
+  while (waiting()) {
+    std::optional<Event> e = events_.pop(std::chrono::milliseconds(200));
+    if (!e) continue;
+    if (e->tag == kHello) on_hello(e->peer, *e, git_commit);
+    if (e->tag == kLost) workers_[e->peer].state = Worker::dead;  // never started: the others run its share
+  }
+}
+
+void MpiCluster::run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
+                            const TrialClaim& claim) {
+  // Larger first where the caller knows (priority), else in the given order.
+  std::vector<std::size_t> order(jobs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return jobs[a].priority > jobs[b].priority; });
+  std::deque<std::size_t> queue(order.begin(), order.end());
+  std::vector<std::size_t> rank_in_order(jobs.size());
+  for (std::size_t k = 0; k < order.size(); ++k) rank_in_order[order[k]] = k;
+
+  const int local_threads = options.threads > 0 ? options.threads : default_thread_count();
+  const auto welcome = [&] {  // --threads per rank; 0: each rank's own core count
+    for (auto& [w, worker] : workers_)
+      if (worker.state == Worker::greeted) {
+        worker.threads = options.threads > 0 ? options.threads : worker.default_threads;
+        worker.state = Worker::ready;
+        link_.send(w, kWelcome, cbor({{"threads", worker.threads}}));
+      }
+  };
+  TrialExecutor local(local_threads, options, [this](std::uint64_t id, TrialResult&& r) {
+    events_.push(Event{0, kLocal, {}, id, std::move(r)});
+  });
+  std::map<std::uint64_t, std::pair<std::size_t, int>> dispatched;  // id -> (job, rank)
+  std::map<int, std::set<std::uint64_t>> in_flight;                 // rank -> ids
+  std::size_t done = 0, skipped = 0, falsified = 0;
+  const auto t0 = Clock::now();
+
+  const auto capacity = [&](int rank) {
+    const int threads = rank == 0 ? local_threads : workers_[rank].threads;
+    int total = local_threads;
+    for (const auto& [w, worker] : workers_)
+      if (worker.state == Worker::ready) total += worker.threads;
+    // A second job per thread waits on each rank while many remain, so a rank never idles for a
+    // round trip between two short trials; near the end, one per thread, so no job waits behind a
+    // long one while another rank is free.
+    return static_cast<std::size_t>(threads) * (queue.size() > 2 * static_cast<std::size_t>(total) ? 2 : 1);
+  };
+  const auto dispatch = [&] {
+    std::vector<int> ranks{0};
+    for (const auto& [w, worker] : workers_)
+      if (worker.state == Worker::ready) ranks.push_back(w);
+    for (int rank : ranks)
+      while (!queue.empty() && in_flight[rank].size() < capacity(rank)) {
+        const std::size_t i = queue.front();
+        queue.pop_front();
+        if (claim && !claim(jobs[i])) {
+          ++skipped;
+          continue;
+        }
+        const std::uint64_t id = next_id_++;
+        dispatched[id] = {i, rank};
+        in_flight[rank].insert(id);
+        if (rank == 0)
+          local.submit(id, jobs[i]);
+        else
+          link_.send(rank, kJob, with_id(id, encode_job(jobs[i])));
+      }
+  };
+  const auto finish_trial = [&](std::uint64_t id, TrialResult result) {
+    const auto it = dispatched.find(id);
+    if (it == dispatched.end()) return;  // a result of a cancelled run, or a duplicate
+    const int rank = it->second.second;
+    in_flight[rank].erase(id);
+    dispatched.erase(it);
+    keep_witness(result, options.witness_dir);
+    sink(result.record);
+    ++done;
+    falsified += result.record.status == TrialStatus::falsified;
+    if (options.progress) {
+      const std::size_t total = jobs.size() - skipped;
+      const double el = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double eta = el / static_cast<double>(done) * static_cast<double>(total - done);
+      fmt::print(stderr, "\r[hyfal] {}/{} trials on {} ranks, {} falsified, {:.1f} s elapsed, ETA {:.1f} s   ", done,
+                 total, size(), falsified, el, eta);
+    }
+  };
+  const auto any_in_flight = [&] {
+    for (const auto& [rank, ids] : in_flight)
+      if (!ids.empty()) return true;
+    return false;
+  };
+
+  try {
+    for (;;) {
+      welcome();
+      dispatch();
+      if (queue.empty() && !any_in_flight()) break;
+      std::optional<Event> e = events_.pop(std::chrono::milliseconds(200));
+      if (!e) continue;
+      switch (e->tag) {
+        case kLocal: finish_trial(e->id, std::move(*e->local)); break;
+        case kResult: {
+          auto [id, payload] = split_id(e->bytes);
+          finish_trial(id, decode_result(payload));
+          break;
+        }
+        case kHello: on_hello(e->peer, *e, options.git_commit); break;
+        case kFatal:
+          workers_[e->peer].state = Worker::dead;
+          throw ClusterError(3, fmt::format("rank {} (host {}): {}", e->peer, workers_[e->peer].host,
+                                         uncbor(e->bytes).value("message", std::string("failed"))));
+        case kLost: {
+          Worker& w = workers_[e->peer];
+          w.state = Worker::dead;
+          std::vector<std::size_t> orphans;
+          for (const std::uint64_t id : in_flight[e->peer]) {
+            orphans.push_back(dispatched[id].first);
+            dispatched.erase(id);
+          }
+          in_flight[e->peer].clear();
+          // Back to the front of the queue, in the order they were handed out.
+          std::sort(orphans.begin(), orphans.end(), [&](std::size_t a, std::size_t b) { return rank_in_order[a] > rank_in_order[b]; });
+          for (const std::size_t i : orphans) queue.push_front(i);  // the claims are rank 0's: still ours
+          fmt::print(stderr, "[hyfal] rank {} (host {}) went silent for {:.0f} s: its {} trials in flight go to other ranks\n",
+                     e->peer, w.host.empty() ? "?" : w.host, peer_timeout_seconds(), orphans.size());
+          break;
+        }
+        default: break;
+      }
+    }
+  } catch (...) {
+    for (const auto& [rank, ids] : in_flight)
+      if (rank != 0 && !ids.empty() && workers_[rank].state == Worker::ready) link_.send(rank, kCancel, {});
+    local.cancel();
+    local.wait();
+    throw;
+  }
+  if (options.progress && done > 0) fmt::print(stderr, "\n");
+}
+
+int MpiCluster::serve(const SystemResolver& resolve, const std::string& git_commit) {
+  EngineOptions base;
+  base.host = host_name();
+  base.git_commit = git_commit;
+  link_.send(0, kHello,
+             cbor({{"protocol", kProtocol},
+                   {"build", build_identity(git_commit)},
+                   {"host", base.host},
+                   {"pid", static_cast<std::int64_t>(::getpid())},
+                   {"default_threads", default_thread_count()}}));
+  // A worker builds each suite instance once (a 1024^2 maze takes a while), however many trials.
+  std::map<std::pair<std::string, std::string>, std::shared_ptr<const System>> systems;
+  const SystemResolver cached = [&](const std::string& suite, const std::string& instance) {
+    std::shared_ptr<const System>& s = systems[{suite, instance}];
+    if (!s) s = resolve(suite, instance);
+    return s;
+  };
+  int threads = 1;
+  std::unique_ptr<TrialExecutor> executor;
+  const auto start_executor = [&] {
+    executor = std::make_unique<TrialExecutor>(threads, base, [this](std::uint64_t id, TrialResult&& r) {
+      link_.send(0, kResult, with_id(id, encode_result(r)));
+    });
+  };
+  const auto fatal = [&](const std::string& message) {
+    executor.reset();
+    link_.send(0, kFatal, cbor({{"message", message}}));
+    fmt::print(stderr, "hyfal: error: rank {} (host {}): {}\n", rank(), base.host, message);
+    return 3;
+  };
+  for (;;) {
+    std::optional<Event> e = events_.pop(std::chrono::milliseconds(200));
+    if (!e) continue;
+    try {
+      switch (e->tag) {
+        case kWelcome:
+          threads = uncbor(e->bytes).at("threads").get<int>();
+          try {
+            start_executor();
+          } catch (const std::exception& ex) {
+            return fatal(fmt::format("cannot start a oneTBB arena of {} threads: {}", threads, ex.what()));
+          }
+          break;
+        case kRefuse: return 2;  // rank 0 says why
+        case kJob: {
+          if (!executor) return fatal("a job arrived before the welcome");
+          auto [id, payload] = split_id(e->bytes);
+          TrialJob job;
+          try {
+            job = decode_job(payload, cached);
+          } catch (const std::exception& ex) {
+            return fatal(fmt::format("cannot set up a trial: {}", ex.what()));
+          }
+          executor->submit(id, std::move(job));
+          break;
+        }
+        case kCancel:
+          if (executor) {
+            executor->cancel();
+            executor->wait();
+            start_executor();
+          }
+          break;
+        case kStop: executor.reset(); return 0;
+        case kLost:
+          executor.reset();
+          fmt::print(stderr, "hyfal: error: rank {} (host {}) lost rank 0 (no message for {:.0f} s): it stops\n", rank(),
+                     base.host, peer_timeout_seconds());
+          // Not through MPI_Finalize: it would wait for rank 0, which is gone.
+          std::fflush(nullptr);
+          std::_Exit(3);
+        default: break;
+      }
+    } catch (const std::exception& ex) {
+      return fatal(ex.what());
+    }
+  }
+}
+
+}  // namespace
+
+Cluster* Cluster::current() { return g_current; }
+
+std::unique_ptr<Cluster> Cluster::join_if_launched(int* argc, char*** argv) {
+  const int size = launcher_size();
+  if (size <= 1) return nullptr;
+  return std::make_unique<MpiCluster>(argc, argv);
+}
+
+}  // namespace hyfal
