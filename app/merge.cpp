@@ -41,15 +41,20 @@ struct Present {
   std::size_t input = 0;   // the input it comes from (to_write)
 };
 
-// The first field in which two rows of one key differ that makes them different trials, or "".
-// Times, host, dates and the witness path may differ between two runs of the same trial.
-std::string differing_field(const TrialRecord& a, const TrialRecord& b) {
-  if (a.seed != b.seed) return fmt::format("seed {} vs {}", a.seed, b.seed);
-  if (a.status != b.status) return fmt::format("status {} vs {}", to_string(a.status), to_string(b.status));
-  if (a.nodes != b.nodes) return fmt::format("nodes {} vs {}", a.nodes, b.nodes);
-  if (a.propagations != b.propagations) return fmt::format("propagations {} vs {}", a.propagations, b.propagations);
+// The first field in which two rows of one key differ that makes them different trials, as
+// "FIELD A in HERE vs B in THERE", or "" for the same trial. Times, host, dates and the witness
+// path may differ between two runs of the same trial.
+std::string differing_field(const TrialRecord& a, const std::string& here, const TrialRecord& b,
+                            const std::string& there) {
+  const auto differ = [&](const char* field, const auto& x, const auto& y) {
+    return fmt::format("{} {} in {} vs {} in {}", field, x, here, y, there);
+  };
+  if (a.seed != b.seed) return differ("seed", a.seed, b.seed);
+  if (a.status != b.status) return differ("status", to_string(a.status), to_string(b.status));
+  if (a.nodes != b.nodes) return differ("nodes", a.nodes, b.nodes);
+  if (a.propagations != b.propagations) return differ("propagations", a.propagations, b.propagations);
   if (a.integration_steps != b.integration_steps)
-    return fmt::format("integration_steps {} vs {}", a.integration_steps, b.integration_steps);
+    return differ("integration_steps", a.integration_steps, b.integration_steps);
   return "";
 }
 
@@ -116,20 +121,21 @@ int cmd_merge(const MergeArgs& a) {
         p = Present{std::move(r), fmt::format("'{}'", in), false, true, false, i};
         continue;
       }
+      const std::string here = fmt::format("'{}'", in);
       if (p.record.seed != r.seed)
         throw UsageError(fmt::format("merge: '{}' conflicts with {} at {}: {}; nothing was merged", in, p.source,
-                                     describe_key(r.key), differing_field(r, p.record)));
+                                     describe_key(r.key), differing_field(r, here, p.record, p.source)));
       if (p.record.status == TrialStatus::error && r.status != TrialStatus::error) {
         // As on resume: a result replaces an attempt that ended in error, its series with it.
         const bool replaces_out_error = p.stored_in_out || p.replaces_out_error;
-        p = Present{std::move(r), fmt::format("'{}'", in), false, true, replaces_out_error, i};
+        p = Present{std::move(r), here, false, true, replaces_out_error, i};
         continue;
       }
       if (r.status == TrialStatus::error) continue;  // an error row gives way to what is there
-      const std::string field = differing_field(r, p.record);
+      const std::string field = differing_field(r, here, p.record, p.source);
       if (!field.empty())
-        throw UsageError(fmt::format("merge: '{}' conflicts with {} at {}: {} (here vs there); nothing was merged",
-                                     in, p.source, describe_key(r.key), field));
+        throw UsageError(fmt::format("merge: '{}' conflicts with {} at {}: {}; nothing was merged", in, p.source,
+                                     describe_key(r.key), field));
       // The same trial: skipped.
     }
   }
