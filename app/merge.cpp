@@ -182,9 +182,9 @@ int cmd_merge(const MergeArgs& a) {
     copies.push_back({from, to});
   }
 
-  // 3. Write: the copies (each atomic), then every row in one transaction; a failure removes the
-  // copies again, so OUT and the witness folder stay as they were.
-  TrialStore out = TrialStore::open(a.out);
+  // 3. Write: the copies (each atomic), then OUT (created if missing) with every row in one
+  // transaction; a failure removes the copies again, so the witness folder and OUT stay as they
+  // were (a failed copy happens before OUT is created).
   std::vector<fs::path> made;
   try {
     for (const Copy& c : copies) {
@@ -193,6 +193,7 @@ int cmd_merge(const MergeArgs& a) {
       write_file_atomic(c.to.string(), *bytes);
       made.push_back(c.to);
     }
+    TrialStore out = TrialStore::open(a.out);
     if (!to_write.empty()) out.insert_all(to_write);
   } catch (...) {
     for (const fs::path& p : made) fs::remove(p, ec);
@@ -205,7 +206,8 @@ int cmd_merge(const MergeArgs& a) {
   if (missing > 0)
     fmt::print(stderr,
                "[hyfal] warning: {} witness files of the merged trials do not exist at their stored paths (relative "
-               "paths are read from the current directory); use --witness-dir DIR to copy them\n",
+               "paths are read from the current directory); --witness-dir DIR copies them, looking beside each input "
+               "database too\n",
                missing);
   return 0;
 }

@@ -363,6 +363,27 @@ TEST_F(ShardMergeTest, WitnessDirCopiesEveryWitnessAndTheCopiesValidate) {
       << kept;
 }
 
+TEST_F(ShardMergeTest, AFailedWitnessCopyRemovesTheCopiesAndWritesNoDatabase) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  ASSERT_NO_FATAL_FAILURE(run_single_and_shards());
+  // The copies are made in key order: trial 11's is the last. Its temporary file is made to fail
+  // as on a full disk, after the copies of trials 0..10 were written.
+  const std::string last = witnesses_of(work() / "single.sqlite").at("11");
+  ASSERT_FALSE(last.empty());
+  const fs::path target = work() / "copies" / fs::relative(last, "wsingle");
+  fs::create_directories(target.parent_path());
+  fs::create_symlink("/dev/full", target.string() + ".tmp");
+  const Result r = hyfal({"merge", "merged.sqlite", "s0.sqlite", "s1.sqlite", "s2.sqlite", "--witness-dir", "copies"});
+  EXPECT_EQ(r.code, 3) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_TRUE(contains(r.err, "No space left on device")) << r;
+  EXPECT_TRUE(files_under(work() / "copies").empty()) << "the copies made are removed again";
+  EXPECT_FALSE(fs::exists(work() / "merged.sqlite"));
+  const Result again = hyfal({"merge", "merged.sqlite", "s0.sqlite", "s1.sqlite", "s2.sqlite", "--witness-dir", "copies"});
+  ASSERT_EQ(again.code, 0) << again;
+  EXPECT_TRUE(contains(again.out, "merged 12 trials")) << again;
+}
+
 TEST_F(ShardMergeTest, BadShardValuesExitTwoAndCreateNothing) {
   for (const std::string v : {"3/3", "a/b", "1/0", "-1/2", "1", "", "0/100001", "0/2/3", " 0/2"}) {
     const Result run = hyfal({"run", "--suite", "thermostat", "--trials", "2", "--threads", "1", "--db", "out/db.sqlite",
