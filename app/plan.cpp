@@ -62,9 +62,9 @@ int print_plan(const std::string& what, const std::vector<const TrialGroup*>& gr
   else
     fmt::print("  cells:     {} trial group(s), {} trials; shard {}: {} of them\n", cells.size(), all_trials,
                shard.text(), shard_trials);
-  const auto nodes_text = min_nodes == max_nodes
-                              ? fmt::format("{}", static_cast<std::int64_t>(max_nodes))
-                              : fmt::format("{} to {}", static_cast<std::int64_t>(min_nodes), static_cast<std::int64_t>(max_nodes));
+  const auto lo_nodes = static_cast<std::int64_t>(min_nodes), hi_nodes = static_cast<std::int64_t>(max_nodes);
+  const std::string nodes_text =
+      lo_nodes == hi_nodes ? fmt::format("{}", hi_nodes) : fmt::format("{} to {}", lo_nodes, hi_nodes);
   fmt::print("  caps:      per trial {} wall clock, {} nodes\n", range_text(min_timeout, max_timeout, " s"), nodes_text);
   fmt::print("  CPU-hours: at most {} ({} trials x time cap / 3600; assumes one core per trial, i.e. batch 1)\n",
              hours(bound_s), shard_trials);

@@ -686,9 +686,8 @@ std::vector<TrialRecord> TrialStore::load_with_series() {
     std::vector<TrialRecord> records = load();
     std::map<std::int64_t, std::size_t> position_of_id;
     {
-      const std::string sql = fmt::format(
-          "SELECT id FROM trials ORDER BY suite, instance, method, config, trial_index, experiment");
-      Statement ids = prepare(sql.c_str());
+      // load()'s order, which is total (the key is UNIQUE): row i of both queries is one trial.
+      Statement ids = prepare("SELECT id FROM trials ORDER BY suite, instance, method, config, trial_index, experiment");
       StatementUse use(ids.get());
       for (std::size_t i = 0; use.step(); ++i) {
         if (i >= records.size())
