@@ -13,6 +13,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "app/merge.hpp"
+#include "app/plan.hpp"
 #include "app/reproduce.hpp"
 #include "core/options.hpp"
 #include "core/rng.hpp"
@@ -119,6 +121,8 @@ struct RunArgs {
   std::uint64_t seed = 1;
   std::string db = "results/hyfal.sqlite", witness_dir = "results/witnesses", format = "md";
   bool quiet = false;
+  std::string shard;  // --shard i/K, empty for all trials
+  bool plan = false;  // --plan: print the sizing and run nothing
 };
 
 int cmd_run(const RunArgs& a) {
@@ -129,6 +133,7 @@ int cmd_run(const RunArgs& a) {
   if (!suite) throw UsageError(fmt::format("unknown suite '{}' (see 'hyfal list')", a.suite));
   const MethodEntry* method = find_method(a.method);
   if (!method) throw UsageError(fmt::format("unknown method '{}' (see 'hyfal list')", a.method));
+  const cli::Shard shard = cli::shard_option(a.shard);
   cli::check_directory_creatable(a.witness_dir, "--witness-dir");
   cli::TrialGroupSpec spec;
   spec.experiment = a.experiment;
@@ -141,11 +146,14 @@ int cmd_run(const RunArgs& a) {
   spec.seed = a.seed;
   const cli::TrialGroup group = cli::resolve_trial_group(spec);
 
+  if (a.plan) return cli::print_plan(fmt::format("{} on {}", method->name, suite->name), {&group}, shard, a.db);
+
   TrialStore store = TrialStore::open(a.db);
-  const std::vector<TrialJob> jobs = cli::prepare_jobs(group, store.stored_trial_indices(group.base));
-  if (!a.quiet && jobs.size() < static_cast<std::size_t>(a.trials))
-    fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", a.trials - jobs.size(),
-               a.trials, a.db);
+  const std::vector<TrialJob> jobs = cli::prepare_jobs(group, store.stored_trial_indices(group.base), shard);
+  const auto in_shard = static_cast<std::size_t>(shard.count_in(0, a.trials));
+  if (!a.quiet && jobs.size() < in_shard)
+    fmt::print(stderr, "[hyfal] resuming: {} of {} trials{} already stored in {}\n", in_shard - jobs.size(), in_shard,
+               shard.whole() ? "" : " of shard " + shard.text(), a.db);
 
   const EngineOptions eo = cli::make_engine_options(a.threads, a.witness_dir, !a.quiet && isatty(STDERR_FILENO));
   const cli::JobsRun jobs_run = cli::run_jobs(jobs, store, eo);
@@ -289,6 +297,14 @@ CLI::Validator integer_in(long long lo, long long hi) {
       },
       fmt::format("INT in [{}, {}]", lo, hi));
 }
+CLI::Validator shard_text() {
+  return CLI::Validator(
+      [](std::string& s) {
+        return cli::parse_shard(s) ? std::string()
+                                   : fmt::format("'{}' is not a shard i/K with 0 <= i < K <= {}", s, cli::kMaxShards);
+      },
+      "i/K");
+}
 CLI::Validator positive_integer() {
   return CLI::Validator(
       [](std::string& s) {
@@ -373,6 +389,13 @@ int run_command(int argc, char** argv) {
   run->add_option("--witness-dir", ra.witness_dir, "directory for witness JSON files")->capture_default_str();
   run->add_option("--format", ra.format, "summary table format")->check(CLI::IsMember({"md", "csv"}))->capture_default_str();
   run->add_flag("--quiet", ra.quiet, "print only the table");
+  run->add_option("--shard", ra.shard,
+                  "run only share i of K (0 <= i < K <= 100000): the trial indices t with t % K == i, into --db "
+                  "(one database per shard, e.g. per Slurm array task; combine them with 'hyfal merge')")
+      ->check(shard_text());
+  run->add_flag("--plan", ra.plan,
+                "print the number of trials, the caps and an upper bound of CPU-hours (and what --db still lacks), "
+                "run nothing and write nothing");
 
   std::string tdb = "results/hyfal.sqlite", texp, tformat = "md", tout;
   auto* table = app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
@@ -397,6 +420,25 @@ int run_command(int argc, char** argv) {
   reproduce->add_option("--db", pa.db, "SQLite results database")->capture_default_str();
   reproduce->add_option("--witness-dir", pa.witness_dir, "directory for witness JSON files")->capture_default_str();
   reproduce->add_option("--out-dir", pa.out_dir, "where ID.md and ID.csv are written")->capture_default_str();
+  reproduce->add_option("--shard", pa.shard,
+                        "run only share i of K (0 <= i < K <= 100000) of the table's trials (position in the full "
+                        "trial list % K == i), into --db; the table then covers only that database until the "
+                        "shard databases are merged ('hyfal merge')")
+      ->check(shard_text());
+  reproduce->add_flag("--plan", pa.plan,
+                      "print the table's cells, trials, per-trial caps and an upper bound of CPU-hours (and what "
+                      "--db still lacks), run nothing and write nothing");
+
+  cli::MergeArgs ma;
+  auto* merge = app.add_subcommand(
+      "merge",
+      "merge results databases (e.g. of --shard runs) into OUT: idempotent, refuses conflicting rows, writes all or "
+      "nothing");
+  merge->add_option("out", ma.out, "the merged database (created if missing; must not be an input)")->required();
+  merge->add_option("inputs", ma.inputs, "databases to merge in (only read)")->required();
+  merge->add_option("--witness-dir", ma.witness_dir,
+                    "copy each merged trial's witness into this folder (as 'run' lays them out) and store the new "
+                    "path; without it the stored paths are kept");
 
   std::string xsuite;
   std::vector<std::string> xsets;
@@ -415,7 +457,7 @@ int run_command(int argc, char** argv) {
     bool known = false;
     for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) known = known || sub->get_name() == cmd;
     if (!known) {
-      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance; see 'hyfal --help')\n", cmd);
+      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance, merge; see 'hyfal --help')\n", cmd);
       return 2;
     }
   }
@@ -436,6 +478,7 @@ int run_command(int argc, char** argv) {
     if (*validate) return cmd_validate(vfile);
     if (*instance_export) return cmd_instance_export(xsuite, xsets);
     if (*reproduce) return cli::cmd_reproduce(pa);
+    if (*merge) return cli::cmd_merge(ma);
   } catch (const UsageError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;

@@ -20,6 +20,7 @@
 
 #include <fmt/format.h>
 
+#include "app/plan.hpp"
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "results/paper_report.hpp"
@@ -172,10 +173,11 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
   return g;
 }
 
-std::vector<TrialJob> prepare_jobs(const TrialGroup& g, const std::set<std::int64_t>& stored) {
+std::vector<TrialJob> prepare_jobs(const TrialGroup& g, const std::set<std::int64_t>& stored, const Shard& shard,
+                                   std::int64_t first_position) {
   std::vector<TrialJob> jobs;
   for (int i = 0; i < g.spec.trials; ++i) {
-    if (stored.count(i)) continue;
+    if (!shard.keeps(first_position + i) || stored.count(i)) continue;
     TrialJob job;
     job.key = g.base;
     job.key.trial_index = i;
@@ -188,6 +190,25 @@ std::vector<TrialJob> prepare_jobs(const TrialGroup& g, const std::set<std::int6
     jobs.push_back(std::move(job));
   }
   return jobs;
+}
+
+std::vector<const TrialGroup*> distinct_groups(const std::vector<const TrialGroup*>& groups) {
+  std::vector<const TrialGroup*> distinct;
+  std::set<std::string> seen;
+  for (const TrialGroup* g : groups) {
+    const TrialKey& k = g->base;
+    if (seen.insert(Json::array({k.suite, k.instance, k.method, k.config}).dump()).second) distinct.push_back(g);
+  }
+  return distinct;
+}
+
+Shard shard_option(const std::string& text) {
+  if (text.empty()) return {};
+  const auto shard = parse_shard(text);
+  if (!shard)
+    throw UsageError(fmt::format("--shard '{}': expected i/K with 0 <= i < K <= {} (the i-th of K shares)", text,
+                                 kMaxShards));
+  return *shard;
 }
 
 EngineOptions make_engine_options(int threads, const std::string& witness_dir, bool progress) {
@@ -293,23 +314,35 @@ struct TableTrials {
 TableTrials run_table_trials(const std::vector<const TrialGroup*>& groups, TrialStore& store, const ReproduceArgs& a,
                              int trials_per_group) {
   std::vector<TrialJob> jobs;
-  std::size_t stored_count = 0;
-  std::set<std::string> seen;
-  for (const TrialGroup* g : groups) {
-    const TrialKey& k = g->base;
-    if (!seen.insert(Json::array({k.suite, k.instance, k.method, k.config}).dump()).second) continue;
-    auto group_jobs = prepare_jobs(*g, store.stored_trial_indices(k));
-    stored_count += static_cast<std::size_t>(trials_per_group) - group_jobs.size();
+  std::size_t stored_count = 0, total = 0;
+  const Shard shard = shard_option(a.shard);
+  std::int64_t position = 0;  // of the group's trial 0 in the table's full job list
+  for (const TrialGroup* g : distinct_groups(groups)) {
+    auto group_jobs = prepare_jobs(*g, store.stored_trial_indices(g->base), shard, position);
+    const auto in_shard = static_cast<std::size_t>(shard.count_in(position, trials_per_group));
+    total += in_shard;
+    stored_count += in_shard - group_jobs.size();
+    position += trials_per_group;
     for (auto& j : group_jobs) jobs.push_back(std::move(j));
   }
   TableTrials t{make_engine_options(a.threads, a.witness_dir, isatty(STDERR_FILENO) != 0)};
-  t.total = seen.size() * static_cast<std::size_t>(trials_per_group);
+  t.total = total;
   if (stored_count > 0)
     fmt::print(stderr, "[hyfal] resuming: {} of {} trials already stored in {}\n", stored_count, t.total, a.db);
   const JobsRun jobs_run = run_jobs(jobs, store, t.engine);
   t.run_now = jobs_run.run_now;
   t.errors = jobs_run.errors;
   return t;
+}
+
+// A shard's table holds only what its database holds: until the shards are merged, a partial one.
+void print_shard_note(const ReproduceArgs& a) {
+  if (a.shard.empty()) return;
+  fmt::print(stderr,
+             "[hyfal] note: --shard {}: the table covers only the trials in {} (this shard and any stored before); "
+             "merge the shard databases (hyfal merge merged.sqlite ...) and run 'hyfal reproduce {} --profile {} "
+             "--db merged.sqlite' for the full table\n",
+             a.shard, a.db, a.id, a.profile);
 }
 
 ReportHeader make_header(const ReproduceArgs& a, const TableProfile& profile, const EngineOptions& eo,
@@ -379,13 +412,14 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
         }
     }
 
-  TrialStore store = TrialStore::open(a.db);
   // The largest columns first, so that the pool does not end waiting on one long trial.
   std::vector<std::size_t> order(cells.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cells[x].col > cells[y].col; });
   std::vector<const TrialGroup*> ordered;
   for (const std::size_t i : order) ordered.push_back(&cells[i].group);
+  if (a.plan) return print_plan(fmt::format("table {} --profile {}", table.id, a.profile), ordered, shard_option(a.shard), a.db);
+  TrialStore store = TrialStore::open(a.db);
   const TableTrials run_info = run_table_trials(ordered, store, a, profile.trials);
   const EngineOptions& eo = run_info.engine;
 
@@ -406,6 +440,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
   std::cout << markdown << std::flush;
   fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info.total,
              run_info.run_now, (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
+  print_shard_note(a);
   return run_info.errors ? 1 : 0;
 }
 
@@ -432,6 +467,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
                                  table->id, a.profile));
   if (table->rows.empty()) throw UsageError(fmt::format("table '{}' has no rows", table->id));
   const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
+  (void)shard_option(a.shard);
   check_output_path(a.db, "--db");
   check_output_path(a.witness_dir, "--witness-dir");
   check_output_path(a.out_dir, "--out-dir");
@@ -465,9 +501,10 @@ int cmd_reproduce(const ReproduceArgs& a) {
     }
   }
 
-  TrialStore store = TrialStore::open(a.db);
   std::vector<const TrialGroup*> ordered;
   for (const TrialGroup& g : groups) ordered.push_back(&g);
+  if (a.plan) return print_plan(fmt::format("table {} --profile {}", table->id, a.profile), ordered, shard_option(a.shard), a.db);
+  TrialStore store = TrialStore::open(a.db);
   const TableTrials run_info = run_table_trials(ordered, store, a, profile.trials);
   const EngineOptions& eo = run_info.engine;
 
@@ -498,6 +535,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
   std::cout << markdown << std::flush;
   fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info.total,
              run_info.run_now, (out_dir / (table->id + ".md")).string(), (out_dir / (table->id + ".csv")).string(), a.db);
+  print_shard_note(a);
   return run_info.errors ? 1 : 0;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/shard.hpp"
 #include "core/paper_table.hpp"
 #include "core/suite.hpp"
 #include "parallel/trial_engine.hpp"
@@ -79,8 +80,18 @@ struct TrialGroup {
 // OptionError for a value of the wrong type.
 TrialGroup resolve_trial_group(const TrialGroupSpec& spec);
 
-// The jobs of the group's trial indices 0..trials-1 not in `stored`, with their seeds.
-std::vector<TrialJob> prepare_jobs(const TrialGroup& group, const std::set<std::int64_t>& stored);
+// The jobs of the group's trial indices 0..trials-1 not in `stored`, with their seeds. With a
+// shard, only the indices i whose position first_position + i in the full job list the shard
+// keeps (a table's groups follow one another in one list; see distinct_groups).
+std::vector<TrialJob> prepare_jobs(const TrialGroup& group, const std::set<std::int64_t>& stored,
+                                   const Shard& shard = {}, std::int64_t first_position = 0);
+
+// The groups in this order without those that resolve to the same trials as an earlier one
+// (same suite, instance, method and config): a table's rows may share trials.
+std::vector<const TrialGroup*> distinct_groups(const std::vector<const TrialGroup*>& groups);
+
+// Parses --shard (empty: the whole job list); throws UsageError naming --shard for a bad value.
+Shard shard_option(const std::string& text);
 
 // Engine options both commands use (host, git commit, progress on a terminal).
 EngineOptions make_engine_options(int threads, const std::string& witness_dir, bool progress);
@@ -106,6 +117,8 @@ struct ReproduceArgs {
   int threads = 0;
   std::uint64_t seed = 1;
   std::string db = "results/hyfal.sqlite", witness_dir = "results/witnesses", out_dir = "results/tables";
+  std::string shard;  // --shard i/K, empty for all trials
+  bool plan = false;  // --plan: print the sizing and run nothing
 };
 
 // hyfal reproduce ID --profile P: runs the table's rows (resuming), writes OUT/ID.md and

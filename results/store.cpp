@@ -703,6 +703,65 @@ std::int64_t TrialStore::insert(const TrialRecord& record) {
   }
 }
 
+void TrialStore::insert_all(const std::vector<TrialRecord>& records) {
+  require_writable("insert_all");
+  execute(connection_.get(), "BEGIN IMMEDIATE",
+          fmt::format("cannot start transaction on results database '{}'", path_));
+  try {
+    for (const TrialRecord& record : records) {
+      for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get(), delete_claim_.get()}) {
+        StatementUse use(statement);
+        bind_key_without_index(use, record.key);
+        use.bind(6, record.key.trial_index);
+        if (sqlite3_step(statement) != SQLITE_DONE)
+          throw_sqlite_error(connection_.get(), fmt::format("cannot replace an errored trial in '{}'", path_));
+      }
+      const std::int64_t id = insert_row(record);
+      for (const auto& [name, points] : record.series) insert_points(id, name, points);
+    }
+    execute(connection_.get(), "COMMIT",
+            fmt::format("cannot commit {} trials to results database '{}'", records.size(), path_));
+  } catch (...) {
+    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::vector<TrialRecord> TrialStore::load_with_series() {
+  // A read transaction on this connection: a writer committing meanwhile is not seen half-way.
+  execute(connection_.get(), "BEGIN", fmt::format("cannot read results database '{}'", path_));
+  try {
+    std::vector<TrialRecord> records = load();
+    std::map<std::int64_t, std::size_t> position_of_id;
+    {
+      // load()'s order, which is total (the key is UNIQUE): row i of both queries is one trial.
+      Statement ids = prepare("SELECT id FROM trials ORDER BY suite, instance, method, config, trial_index, experiment");
+      StatementUse use(ids.get());
+      for (std::size_t i = 0; use.step(); ++i) {
+        if (i >= records.size())
+          throw StoreError(StoreErrorKind::environment, fmt::format("results database '{}' changed while read", path_));
+        position_of_id[use.integer(0)] = i;
+      }
+    }
+    Statement points = prepare("SELECT trial_id, name, x, y FROM series ORDER BY rowid");
+    StatementUse use(points.get());
+    while (use.step()) {
+      const auto at = position_of_id.find(use.integer(0));
+      if (at == position_of_id.end()) continue;  // a point of no stored trial: nothing to carry
+      auto& series = records[at->second].series;
+      const std::string name = use.text(1);
+      auto it = std::find_if(series.begin(), series.end(), [&](const auto& s) { return s.first == name; });
+      if (it == series.end()) it = series.insert(series.end(), {name, {}});
+      it->second.emplace_back(use.real(2), use.real(3));
+    }
+    execute(connection_.get(), "COMMIT", fmt::format("cannot read results database '{}'", path_));
+    return records;
+  } catch (...) {
+    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
 std::int64_t TrialStore::insert_row(const TrialRecord& record) {
   // A single INSERT in autocommit mode is its own transaction: committed when step returns.
   StatementUse use(insert_trial_.get());

@@ -159,6 +159,16 @@ class TrialStore {
   // trial_index (then experiment, so the order is total).
   std::vector<TrialRecord> load(std::optional<std::string> experiment = {});
 
+  // Every trial (ordered as load() orders them) with all its series, read in one transaction so
+  // that rows and series come from one snapshot (merge reads its inputs this way).
+  std::vector<TrialRecord> load_with_series();
+
+  // Stores many trials with their series in ONE transaction (merge writes this way): all or none
+  // of them are stored. Like insert(), a stored row of the same key with status error is replaced
+  // (with its series) and a claim on the key ends. Throws StoreError (bad_input) if a trial with
+  // the same key is stored with a status other than error; nothing is then stored.
+  void insert_all(const std::vector<TrialRecord>& records);
+
   // The distinct experiment names stored, sorted.
   std::vector<std::string> experiments();
 
