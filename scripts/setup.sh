@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libtbb-dev libnanoflann-dev libboost-dev libboost-math-dev
   libbenchmark-dev libfmt-dev libgtest-dev libcli11-dev libsqlite3-dev sqlite3
   nlohmann-json3-dev libtomlplusplus-dev
+  openmpi-bin libopenmpi-dev
 )
 missing=()
 for p in "${packages[@]}"; do
