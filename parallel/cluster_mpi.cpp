@@ -128,6 +128,10 @@ class MpiLink {
   int rank() const { return rank_; }
   int size() const { return size_; }
 
+  // Ends without MPI_Finalize: once a rank is gone, OpenMPI's finalize may wait for it for ever
+  // (seen with --enable-recovery), so the surviving ranks leave without it.
+  void skip_finalize() { skip_finalize_ = true; }
+
   void send(int peer, int tag, std::string bytes) {
     {
       std::lock_guard lock(mutex_);
@@ -254,10 +258,11 @@ class MpiLink {
         MPI_Request_free(&f.request);
       }
     }
-    MPI_Finalize();
+    if (!skip_finalize_) MPI_Finalize();
   }
 
   EventQueue& events_;
+  std::atomic<bool> skip_finalize_{false};
   std::mutex mutex_;
   std::condition_variable cv_;
   bool ready_ = false, stopping_ = false;
@@ -353,7 +358,7 @@ class MpiCluster final : public Cluster {
   void finish(int rc) override {
     finished_ = true;
     for (int w = 1; w < size(); ++w)
-      if (workers_[w].state != Worker::dead) link_.send(w, kStop, cbor({{"rc", rc}}));
+      if (workers_[w].state != Worker::dead) link_.send(w, kStop, cbor({{"rc", rc}, {"lost_peer", lost_peer_}}));
   }
 
  private:
@@ -375,6 +380,7 @@ class MpiCluster final : public Cluster {
   std::map<int, Worker> workers_;
   std::uint64_t next_id_ = 1;
   bool finished_ = false;
+  bool lost_peer_ = false;  // a worker was lost: no rank may finalize MPI (see MpiLink::skip_finalize)
 };
 
 void MpiCluster::on_hello(int w, const Event& e, const std::string& git_commit) {
@@ -405,7 +411,11 @@ void MpiCluster::check_ranks(const std::string& git_commit) {
     std::optional<Event> e = events_.pop(std::chrono::milliseconds(200));
     if (!e) continue;
     if (e->tag == kHello) on_hello(e->peer, *e, git_commit);
-    if (e->tag == kLost) workers_[e->peer].state = Worker::dead;  // never started: the others run its share
+    if (e->tag == kLost) {  // never started: the others run its share
+      workers_[e->peer].state = Worker::dead;
+      lost_peer_ = true;
+      link_.skip_finalize();
+    }
   }
 }
 
@@ -513,6 +523,8 @@ void MpiCluster::run_trials(const std::vector<TrialJob>& jobs, const EngineOptio
         case kLost: {
           Worker& w = workers_[e->peer];
           w.state = Worker::dead;
+          lost_peer_ = true;
+          link_.skip_finalize();
           std::vector<std::size_t> orphans;
           for (const std::uint64_t id : in_flight[e->peer]) {
             orphans.push_back(dispatched[id].first);
@@ -602,7 +614,10 @@ int MpiCluster::serve(const SystemResolver& resolve, const std::string& git_comm
             start_executor();
           }
           break;
-        case kStop: executor.reset(); return 0;
+        case kStop:
+          executor.reset();
+          if (uncbor(e->bytes).value("lost_peer", false)) link_.skip_finalize();
+          return 0;
         case kLost:
           executor.reset();
           fmt::print(stderr, "hyfal: error: rank {} (host {}) lost rank 0 (no message for {:.0f} s): it stops\n", rank(),

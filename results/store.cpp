@@ -679,21 +679,10 @@ TrialStore::Statement TrialStore::prepare(const char* sql) {
 
 std::int64_t TrialStore::insert(const TrialRecord& record) {
   require_writable("insert");
-  // One transaction: an earlier attempt of the same trial that ended in error is replaced (so a
-  // resumed run retries errors), the row is stored with its series, whole or not at all, and
-  // the trial's claim ends with it.
   execute(connection_.get(), "BEGIN IMMEDIATE",
           fmt::format("cannot start transaction on results database '{}'", path_));
   try {
-    for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get(), delete_claim_.get()}) {
-      StatementUse use(statement);
-      bind_key_without_index(use, record.key);
-      use.bind(6, record.key.trial_index);
-      if (sqlite3_step(statement) != SQLITE_DONE)
-        throw_sqlite_error(connection_.get(), fmt::format("cannot replace an errored trial in '{}'", path_));
-    }
-    const std::int64_t id = insert_row(record);
-    for (const auto& [name, points] : record.series) insert_points(id, name, points);
+    const std::int64_t id = store_in_transaction(record);
     execute(connection_.get(), "COMMIT",
             fmt::format("cannot commit trial to results database '{}'", path_));
     return id;
@@ -708,23 +697,28 @@ void TrialStore::insert_all(const std::vector<TrialRecord>& records) {
   execute(connection_.get(), "BEGIN IMMEDIATE",
           fmt::format("cannot start transaction on results database '{}'", path_));
   try {
-    for (const TrialRecord& record : records) {
-      for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get(), delete_claim_.get()}) {
-        StatementUse use(statement);
-        bind_key_without_index(use, record.key);
-        use.bind(6, record.key.trial_index);
-        if (sqlite3_step(statement) != SQLITE_DONE)
-          throw_sqlite_error(connection_.get(), fmt::format("cannot replace an errored trial in '{}'", path_));
-      }
-      const std::int64_t id = insert_row(record);
-      for (const auto& [name, points] : record.series) insert_points(id, name, points);
-    }
+    for (const TrialRecord& record : records) store_in_transaction(record);
     execute(connection_.get(), "COMMIT",
             fmt::format("cannot commit {} trials to results database '{}'", records.size(), path_));
   } catch (...) {
     sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
+}
+
+std::int64_t TrialStore::store_in_transaction(const TrialRecord& record) {
+  // An earlier attempt of the same trial that ended in error is replaced (so a resumed run
+  // retries errors), the row is stored with its series, and the trial's claim ends with it.
+  for (sqlite3_stmt* statement : {delete_error_series_.get(), delete_error_trial_.get(), delete_claim_.get()}) {
+    StatementUse use(statement);
+    bind_key_without_index(use, record.key);
+    use.bind(6, record.key.trial_index);
+    if (sqlite3_step(statement) != SQLITE_DONE)
+      throw_sqlite_error(connection_.get(), fmt::format("cannot replace an errored trial in '{}'", path_));
+  }
+  const std::int64_t id = insert_row(record);
+  for (const auto& [name, points] : record.series) insert_points(id, name, points);
+  return id;
 }
 
 std::vector<TrialRecord> TrialStore::load_with_series() {

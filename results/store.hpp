@@ -201,6 +201,9 @@ class TrialStore {
   Connection connection_;
   Statement insert_trial_;
   std::int64_t insert_row(const TrialRecord& record);
+  // The one step of insert and insert_all, inside their transaction: the row of record (replacing
+  // an errored attempt of the same trial), its series, and the end of its claim.
+  std::int64_t store_in_transaction(const TrialRecord& record);
   void insert_points(std::int64_t trial_id, const std::string& name,
                      std::span<const std::pair<double, double>> points);
   Statement insert_series_point_;

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_support.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -33,139 +35,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
-using Args = std::vector<std::string>;
 
 // ---------------------------------------------------------------------------------------------
-// Helpers
+// Helpers: tests/cli_support.hpp, and the ones only these tests use
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'')
-      q += "'\\''";
-    else
-      q += c;
-  }
-  return q + "'";
-}
+using namespace hyfal_cli_test;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << text;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> parts;
-  std::string cur;
-  for (char c : s) {
-    if (c == sep) {
-      parts.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  parts.push_back(cur);
-  return parts;
-}
-
-// Lines of a text, without the empty piece after a final newline.
-std::vector<std::string> lines(const std::string& s) {
-  auto v = split(s, '\n');
-  if (!v.empty() && v.back().empty()) v.pop_back();
-  return v;
-}
-
-int decode_status(int status) {
-  if (status == -1) return -1;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err, command;
-};
-
-std::ostream& operator<<(std::ostream& os, const Result& r) {
-  return os << "command: " << r.command << "\nexit: " << r.code << "\nstdout:\n"
-            << r.out << "\nstderr:\n"
-            << r.err;
-}
-
-// Runs hyfal with args in cwd; stdout and stderr go to files under io_dir (never under cwd, so
-// that cwd can be checked for files hyfal created). A memory cap and a wall-clock cap keep a
-// misbehaving binary from taking the machine down with it (exit 137 when the cap is hit).
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr const char* kMemoryCap = "";  // sanitizers reserve terabytes of shadow address space
-constexpr int kSlowdown = 4;            // TSan runs a 200-trial resume ~15x slower than Release
-#else
-constexpr const char* kMemoryCap = "ulimit -v 8388608 && ";
-constexpr int kSlowdown = 1;
-#endif
-
-Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120) {
-  static std::atomic<int> counter{0};
-  fs::create_directories(io_dir);
-  const int n = counter++;
-  const fs::path out = io_dir / ("cmd" + std::to_string(n) + ".out");
-  const fs::path err = io_dir / ("cmd" + std::to_string(n) + ".err");
-  std::string cmd = "cd ";
-  cmd += quote(cwd.string());
-  cmd += " && ";
-  cmd += kMemoryCap;
-  cmd += "exec timeout -s KILL ";
-  cmd += std::to_string(time_cap_s * kSlowdown);  // a safety net, not a speed assertion
-  cmd += ' ';
-  cmd += quote(HYFAL_BIN);
-  for (const auto& a : args) {
-    cmd += ' ';
-    cmd += quote(a);
-  }
-  cmd += " >";
-  cmd += quote(out.string());
-  cmd += " 2>";
-  cmd += quote(err.string());
-  cmd += " </dev/null";
-  Result r;
-  r.code = decode_status(std::system(cmd.c_str()));
-  r.out = read_text(out);
-  r.err = read_text(err);
-  r.command = "hyfal";
-  for (const auto& a : args) r.command += " " + a;
-  return r;
-}
-
-// Runs the sqlite3 command-line tool on db; returns its rows (fields split at '|').
-// Sets ok to false (and leaves the output in error) when sqlite3 fails.
-struct SqlResult {
-  bool ok = false;
-  std::vector<std::vector<std::string>> rows;
-  std::string text;
-};
-
-SqlResult sql(const fs::path& db, const std::string& query) {
-  SqlResult r;
-  const std::string cmd =
-      "sqlite3 -batch -noheader -separator '|' " + quote(db.string()) + " " + quote(query) + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t got;
-  while ((got = fread(buf, 1, sizeof buf, p)) > 0) r.text.append(buf, got);
-  r.ok = decode_status(pclose(p)) == 0;
-  for (const auto& line : lines(r.text)) r.rows.push_back(split(line, '|'));
-  return r;
-}
 
 // Every path under root (relative), mapped to its content (files) or "<dir>"; contents of
 // *.sqlite files are not compared (opening a database may rewrite its header), only presence.

@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include "cli_support.hpp"
+
 #ifndef HYFAL_BIN
 #error "HYFAL_BIN (the path of the built hyfal binary) must be defined"
 #endif
@@ -29,35 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using namespace hyfal_cli_test;  // quote, read_text, Result, decode_status
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err, command;
-};
-std::ostream& operator<<(std::ostream& os, const Result& r) {
-  return os << "command: " << r.command << "\nexit: " << r.code << "\nstdout:\n" << r.out << "\nstderr:\n" << r.err;
-}
-
-int decode_status(int status) {
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
-
-// mpirun's options for this machine: every rank on it (--oversubscribe, 2 cores), root allowed
-// when the tests run as root (CI containers).
 // Single-copy shared memory (CMA) needs ptrace rights that containers often withhold: the plain
 // shared-memory path works everywhere.
 std::string mpirun(const std::string& extra = "") {

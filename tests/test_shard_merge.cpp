@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "cli_support.hpp"
+
 #ifndef HYFAL_BIN
 #error "HYFAL_BIN (the path of the built hyfal binary) must be defined"
 #endif
@@ -25,111 +27,11 @@
 namespace {
 
 namespace fs = std::filesystem;
-using Args = std::vector<std::string>;
 
-// ---------------------------------------------------------------------------------------------
-// Helpers (the pattern of test_cli.cpp)
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'')
-      q += "'\\''";
-    else
-      q += c;
-  }
-  return q + "'";
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> lines(const std::string& s) {
-  std::vector<std::string> v;
-  std::istringstream in(s);
-  for (std::string l; std::getline(in, l);) v.push_back(l);
-  return v;
-}
+// Helpers: tests/cli_support.hpp
+using namespace hyfal_cli_test;
 
 bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
-int decode_status(int status) {
-  if (status == -1) return -1;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err, command;
-};
-
-std::ostream& operator<<(std::ostream& os, const Result& r) {
-  return os << "command: " << r.command << "\nexit: " << r.code << "\nstdout:\n" << r.out << "\nstderr:\n" << r.err;
-}
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr const char* kMemoryCap = "";  // sanitizers reserve terabytes of shadow address space
-constexpr int kSlowdown = 4;
-#else
-constexpr const char* kMemoryCap = "ulimit -v 8388608 && ";
-constexpr int kSlowdown = 1;
-#endif
-
-// Runs hyfal with args in cwd; stdout and stderr go to files under io_dir (never under cwd).
-Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120) {
-  static std::atomic<int> counter{0};
-  fs::create_directories(io_dir);
-  const int n = counter++;
-  const fs::path out = io_dir / ("cmd" + std::to_string(n) + ".out");
-  const fs::path err = io_dir / ("cmd" + std::to_string(n) + ".err");
-  std::string cmd = "cd ";
-  cmd += quote(cwd.string());
-  cmd += " && ";
-  cmd += kMemoryCap;
-  cmd += "exec timeout -s KILL ";
-  cmd += std::to_string(time_cap_s * kSlowdown);  // a safety net, not a speed assertion
-  cmd += ' ';
-  cmd += quote(HYFAL_BIN);
-  for (const auto& a : args) {
-    cmd += ' ';
-    cmd += quote(a);
-  }
-  cmd += " >";
-  cmd += quote(out.string());
-  cmd += " 2>";
-  cmd += quote(err.string());
-  cmd += " </dev/null";
-  Result r;
-  r.code = decode_status(std::system(cmd.c_str()));
-  r.out = read_text(out);
-  r.err = read_text(err);
-  r.command = "hyfal";
-  for (const auto& a : args) r.command += " " + a;
-  return r;
-}
-
-// The sqlite3 command-line tool's output for query on db (rows as lines, fields split by '|').
-struct SqlResult {
-  bool ok = false;
-  std::string text;
-};
-SqlResult sql(const fs::path& db, const std::string& query) {
-  SqlResult r;
-  const std::string cmd = "sqlite3 -batch -noheader -separator '|' " + quote(db.string()) + " " + quote(query) + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t got;
-  while ((got = fread(buf, 1, sizeof buf, p)) > 0) r.text.append(buf, got);
-  r.ok = decode_status(pclose(p)) == 0;
-  return r;
-}
 
 // A trial as it must be equal across shards and the single-process run: its key and result.
 const char* kTrialResult =
