@@ -1,8 +1,10 @@
 #include "results/statistics.hpp"
 
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/math/statistics/univariate_statistics.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string_view>
@@ -31,6 +33,66 @@ SampleSummary summarize(std::span<const double> sample) {
   summary.ci_low = mean - half_width;
   summary.ci_high = mean + half_width;
   return summary;
+}
+
+std::vector<CensoredValue> censored_sample(std::span<const TrialRecord> trials, TrialMeasure measure) {
+  std::vector<CensoredValue> sample;
+  sample.reserve(trials.size());
+  for (const TrialRecord& trial : trials) {
+    if (trial.status == TrialStatus::error) continue;  // no value, not even a bound
+    const double value = measure == TrialMeasure::wall_s ? trial.wall_s : static_cast<double>(trial.nodes);
+    sample.push_back({value, is_right_censored(trial.status)});
+  }
+  return sample;
+}
+
+namespace {
+
+// Gehan's score of the pair (a, b): -1 if a is certainly smaller than b, +1 if certainly
+// larger, 0 if the censoring leaves the order open or the values tie (Gehan 1965, Sect. 2).
+int gehan_score(const CensoredValue& a, const CensoredValue& b) {
+  if (!a.censored && !b.censored) return (a.value > b.value) - (a.value < b.value);
+  if (!a.censored) return a.value <= b.value ? -1 : 0;  // b > its censoring point >= a
+  if (!b.censored) return b.value <= a.value ? +1 : 0;
+  return 0;  // both censored: either may be the larger
+}
+
+}  // namespace
+
+GehanTest gehan_test(std::span<const CensoredValue> x, std::span<const CensoredValue> y) {
+  GehanTest test{.n_x = x.size(), .n_y = y.size()};
+  if (x.empty() || y.empty()) return test;
+  // The scores u_k of the pooled sample (Mantel 1967): O(N²), N is a table cell's trial count.
+  std::vector<CensoredValue> pooled(x.begin(), x.end());
+  pooled.insert(pooled.end(), y.begin(), y.end());
+  double statistic = 0.0, sum_of_squares = 0.0;
+  for (std::size_t k = 0; k < pooled.size(); ++k) {
+    double score = 0.0;
+    for (const CensoredValue& other : pooled) score += gehan_score(pooled[k], other);
+    if (k < x.size()) statistic += score;  // the within-x pairs cancel: W = Σ_{k in x} u_k
+    sum_of_squares += score * score;
+  }
+  const double m = static_cast<double>(x.size()), n = static_cast<double>(y.size());
+  const double total = m + n;
+  test.statistic = statistic;
+  test.variance = m * n / (total * (total - 1.0)) * sum_of_squares;
+  if (test.variance <= 0.0) return test;  // every pair undecided: no evidence either way
+  test.z = statistic / std::sqrt(test.variance);
+  const boost::math::normal standard_normal;
+  test.p_value = std::min(1.0, 2.0 * boost::math::cdf(standard_normal, -std::abs(test.z)));
+  return test;
+}
+
+SampleComparison compare_samples(std::span<const CensoredValue> x, std::span<const CensoredValue> y,
+                                 double alpha) {
+  SampleComparison comparison;
+  comparison.test = gehan_test(x, y);
+  if (x.size() < 2 || y.size() < 2) return comparison;  // order stays too_few_trials
+  if (comparison.test.p_value >= alpha)
+    comparison.order = SampleOrder::within_noise;
+  else
+    comparison.order = comparison.test.statistic < 0 ? SampleOrder::x_smaller : SampleOrder::y_smaller;
+  return comparison;
 }
 
 std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) {

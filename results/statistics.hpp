@@ -1,4 +1,5 @@
-// Summaries of trial samples: the numbers the report tables print.
+// Summaries of trial samples, the numbers the report tables print, and the two-sample test the
+// tables' ordering verdicts rest on (Gehan's generalized Wilcoxon test for right-censored data).
 #pragma once
 #include <cstddef>
 #include <limits>
@@ -45,6 +46,67 @@ struct GroupSummary {
   SampleSummary wall_s;
   SampleSummary nodes;
 };
+
+// Whether a trial's time and nodes are right-censored: the trial was stopped by the time limit or
+// the node cap, so the values it recorded are lower bounds of what the method needs. Errors carry
+// no value at all (they are left out of every sample); a gave-up search (not_found) ended on its
+// own, so its values are exact.
+constexpr bool is_right_censored(TrialStatus status) {
+  return status == TrialStatus::timeout || status == TrialStatus::node_cap;
+}
+
+// One value of a sample. censored: the true value is larger than `value` (right-censored at it).
+struct CensoredValue {
+  double value = 0.0;
+  bool censored = false;
+  friend bool operator==(const CensoredValue&, const CensoredValue&) = default;
+};
+
+enum class TrialMeasure { wall_s, nodes };
+
+// The wall times or node counts of `trials`, errors left out, stopped trials censored at the value
+// they had when stopped (is_right_censored), in trial order.
+std::vector<CensoredValue> censored_sample(std::span<const TrialRecord> trials, TrialMeasure measure);
+
+// Gehan's generalized Wilcoxon test of two right-censored samples (Gehan 1965, "A generalized
+// Wilcoxon test for comparing arbitrarily singly-censored samples", Biometrika 52: 203-223),
+// with Mantel's (1967) permutation variance.
+//
+// Every pair (x_i, y_j) scores U_ij = -1 if x_i is certainly smaller than y_j, +1 if certainly
+// larger, 0 if the order cannot be told (a tie of exact values, two censored values, or an exact
+// value above a censored one). "Certainly smaller": x_i exact and either y_j exact with
+// x_i < y_j, or y_j censored at c with x_i <= c. The statistic is W = Σ_i Σ_j U_ij. Under the
+// null hypothesis (both samples from one distribution, censoring alike) every split of the
+// pooled sample into groups of m and n is equally likely; with the score of each pooled value,
+// u_k = #{pooled values certainly smaller} - #{certainly larger}, W = Σ_{k in x} u_k, and its
+// permutation variance is Var W = m n / (N (N - 1)) · Σ_k u_k², N = m + n (Σ_k u_k = 0).
+// z = W / √Var W, two-sided p = 2 Φ(-|z|) (normal approximation). Var W = 0 (every pair
+// undecided, e.g. all values censored) gives z = 0, p = 1.
+struct GehanTest {
+  std::size_t n_x = 0, n_y = 0;
+  double statistic = 0.0;  // W; negative: x tends to be smaller than y
+  double variance = 0.0;   // permutation variance of W
+  double z = 0.0;
+  double p_value = 1.0;  // two-sided
+};
+
+GehanTest gehan_test(std::span<const CensoredValue> x, std::span<const CensoredValue> y);
+
+// The significance level of the tables' ordering verdicts (two-sided).
+inline constexpr double kSignificanceLevel = 0.05;
+
+// Which sample tends to be smaller, by gehan_test at `alpha`: too_few_trials when either sample
+// has fewer than two values (no test can tell one value from another), within_noise when the
+// test does not reject at `alpha`.
+enum class SampleOrder { x_smaller, y_smaller, within_noise, too_few_trials };
+
+struct SampleComparison {
+  SampleOrder order = SampleOrder::too_few_trials;
+  GehanTest test;
+};
+
+SampleComparison compare_samples(std::span<const CensoredValue> x, std::span<const CensoredValue> y,
+                                 double alpha = kSignificanceLevel);
 
 // Groups trials by (suite, instance, method, config), groups in order of first appearance;
 // the experiment is not part of the group, so pass one experiment's trials to keep them apart.
