@@ -231,7 +231,7 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
           if (k > 0) s += tied[k] ? tie_mark : " < ";
           s += r.rows[o[k]];
         }
-        return s;
+        return s.empty() ? std::string(kMissing) : s;
       };
       md += fmt::format("- {}: paper {} — ours {} — ", r.columns[check.column],
                         order(check.paper_order, check.paper_tied_with_previous, " = "),

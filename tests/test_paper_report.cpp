@@ -377,6 +377,13 @@ TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
   EXPECT_NE(csv.find(",RandomDriver,HyDICE,hydice,2²,0.4,1,1,2,2,1,0,0,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",RRT,within noise,"), std::string::npos) << csv;
   EXPECT_THROW(make_sweep_report(t, Cells(2), 2), std::invalid_argument);
+
+  // A column without paper values: nothing to order, said so.
+  t.sweep->paper = {{{kNotReported, 0.3, kPaperTimeout}, {kNotReported, 0.6, 1.2}}};
+  const std::string unchecked = to_markdown(make_sweep_report(t, trials, 2), h);
+  EXPECT_NE(unchecked.find("- 2²: paper – — ours – — not checked (fewer than two rows have a paper value)\n"),
+            std::string::npos)
+      << unchecked;
 }
 
 TEST(SweepReport, TenTrialsPerCellGiveSignificantVerdicts) {
