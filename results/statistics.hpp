@@ -70,7 +70,8 @@ std::vector<CensoredValue> censored_sample(std::span<const TrialRecord> trials, 
 
 // Gehan's generalized Wilcoxon test of two right-censored samples (Gehan 1965, "A generalized
 // Wilcoxon test for comparing arbitrarily singly-censored samples", Biometrika 52: 203-223),
-// with Mantel's (1967) permutation variance.
+// with the permutation variance of Mantel's scores (Mantel 1967, "Ranking procedures for
+// arbitrarily restricted observation", Biometrics 23: 65-78).
 //
 // Every pair (x_i, y_j) scores U_ij = -1 if x_i is certainly smaller than y_j, +1 if certainly
 // larger, 0 if the order cannot be told (a tie of exact values, two censored values, or an exact
