@@ -191,12 +191,14 @@ std::string order_text(const PaperReport& report, const std::vector<std::size_t>
   return text.empty() ? std::string(kMissing) : text;
 }
 
-std::string p_value_text(double p) {
+// An exact permutation p-value reads "p = …", a normal approximation "p ≈ …" (GehanTest).
+std::string p_value_text(double p, bool exact) {
+  const std::string_view relation = exact ? "=" : "≈";
   if (p < 0.001) return "p < 0.001";
   std::string text = format_significant(p, 2);
   // Two digits would show 0.0496 as 0.050 beside "holds": keep the side of α visible.
   if ((p < kSignificanceLevel) != (std::stod(text) < kSignificanceLevel)) text = format_significant(p, 4);
-  return fmt::format("p = {}", text);
+  return fmt::format("p {} {}", relation, text);
 }
 
 }  // namespace
@@ -244,7 +246,7 @@ std::string pairs_text(const OrderingCheck& check, const std::vector<std::string
     if (pair.verdict == OrderingVerdict::too_few_trials)
       part += fmt::format(" (n = {}, {})", pair.test.n_x, pair.test.n_y);
     else
-      part += fmt::format(" ({})", p_value_text(pair.test.p_value));
+      part += fmt::format(" ({})", p_value_text(pair.test.p_value, pair.test.p_exact));
     parts.push_back(std::move(part));
   }
   return parts.empty() ? std::string(kMissing) : fmt::format("{}", fmt::join(parts, "; "));
@@ -475,8 +477,10 @@ std::string ordering_method_text() {
   return fmt::format(
       "Orders are ascending (ours: by the value shown; ≈ not significantly different from the row before); rows "
       "the paper does not report (N/A) are left out. Each adjacent pair of the paper's order is tested on the two "
-      "rows' trials with Gehan's generalized Wilcoxon test (Gehan 1965, Biometrika 52: 203-223; two-sided, normal "
-      "approximation with the permutation variance, α = {:g}), which ranks a trial stopped by the time limit or "
+      "rows' trials with Gehan's generalized Wilcoxon test (Gehan 1965, Biometrika 52: 203-223; two-sided, α = {:g}; "
+      "p = exact permutation p-value, counted by dynamic programming over the splits of the pooled trials, always "
+      "for pairs of up to 100 trials together; p ≈ normal approximation with the permutation variance where the "
+      "exact count would cost too much), which ranks a trial stopped by the time limit or "
       "node cap above every value it certainly exceeds and leaves its order against larger values open: holds = "
       "ours significantly in the paper's direction, reversed = significantly the other way, within noise = not "
       "significant, too few trials = a row has fewer than two trials. Where the paper ties (=), ours hold when "

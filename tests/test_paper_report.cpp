@@ -93,6 +93,9 @@ TEST(PaperReport, MeansAndRatiosToTheFirstRow) {
   ASSERT_EQ(r.orderings[0].pairs.size(), 1u);
   EXPECT_DOUBLE_EQ(r.orderings[0].pairs[0].test.statistic, -6.0);
   EXPECT_NEAR(r.orderings[0].pairs[0].test.variance, 12.0, 1e-12);
+  // Exact: of the C(5, 2) = 10 choices of B's two scores only {2, 4} and {-4, -2} reach |6|: p = 0.2.
+  EXPECT_TRUE(r.orderings[0].pairs[0].test.p_exact);
+  EXPECT_DOUBLE_EQ(r.orderings[0].pairs[0].test.p_value, 0.2);
   // The test sees the coverage values of the trials that have them: 2 and 2.
   EXPECT_EQ(r.rows[0].cells[1].observations.size(), 2u);
 }

@@ -2,9 +2,11 @@
 // (results/statistics) and the per-pair verdicts of check_ordering (results/paper_report).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -36,7 +38,10 @@ TEST(GehanTest, HandComputedExample) {
   //   1: 0 - 5 = -5;  2: 1 - 4 = -3;  3: 2 - 3 = -1;  4+: 3 - 0 = 3;  5+: 3 - 0 = 3;  6: 3 - 0 = 3
   //   (sum 0; W = u(1) + u(3) + u(5+) = -5 - 1 + 3 = -3, as above).
   // Σ u_k² = 25 + 9 + 1 + 9 + 9 + 9 = 62; Var W = m n / (N (N - 1)) Σ u_k² = 9 / 30 · 62 = 18.6.
-  // z = -3 / √18.6 = -0.695608; p = 2 Φ(-0.695608) = 0.486674.
+  // z = -3 / √18.6 = -0.695608; normal p = 2 Φ(-0.695608) = 0.486674.
+  // Exact permutation p: the C(6, 3) = 20 choices of three of the scores {-5, -3, -1, 3, 3, 3}
+  // sum to -9 (once), -5, -3, -1, 1, 3, 5 (three times each) and 9 (once); |sum| >= 3 in
+  // 1 + 3 + 3 + 3 + 3 + 1 = 14 of them, so p = 14 / 20 = 0.7.
   const std::vector<CensoredValue> x{exact(1), exact(3), censored(5)};
   const std::vector<CensoredValue> y{exact(2), censored(4), exact(6)};
   const GehanTest test = gehan_test(x, y);
@@ -45,12 +50,102 @@ TEST(GehanTest, HandComputedExample) {
   EXPECT_DOUBLE_EQ(test.statistic, -3.0);
   EXPECT_NEAR(test.variance, 18.6, 1e-12);
   EXPECT_NEAR(test.z, -0.6956083436, 1e-9);
-  EXPECT_NEAR(test.p_value, 0.4866741395, 1e-9);
+  EXPECT_NEAR(test.normal_p_value, 0.4866741395, 1e-9);
+  EXPECT_TRUE(test.p_exact);
+  EXPECT_DOUBLE_EQ(test.p_value, 0.7);
   // Swapping the samples flips the sign only.
   const GehanTest swapped = gehan_test(y, x);
   EXPECT_DOUBLE_EQ(swapped.statistic, 3.0);
   EXPECT_NEAR(swapped.variance, 18.6, 1e-12);
-  EXPECT_NEAR(swapped.p_value, test.p_value, 1e-12);
+  EXPECT_NEAR(swapped.normal_p_value, test.normal_p_value, 1e-12);
+  EXPECT_DOUBLE_EQ(swapped.p_value, 0.7);
+}
+
+TEST(GehanTest, ThreeAgainstThreeTotallySeparatedIsWithinNoise) {
+  // x = 1, 2, 3 below y = 4, 5, 6: W = -9, u = -5, -3, -1, 1, 3, 5, Var W = 9 / 30 · 70 = 21,
+  // z = -1.964, normal p = 0.0495 < 0.05. But only 2 of the C(6, 3) = 20 splits are as extreme
+  // ({1, 2, 3} and {4, 5, 6} as x): the exact p is 2 / 20 = 0.1, and 3 trials a side cannot show
+  // a difference at α = 0.05.
+  const std::vector<CensoredValue> x = exact_range(1, 3), y = exact_range(4, 6);
+  const SampleComparison comparison = compare_samples(x, y);
+  EXPECT_DOUBLE_EQ(comparison.test.statistic, -9.0);
+  EXPECT_NEAR(comparison.test.variance, 21.0, 1e-12);
+  EXPECT_NEAR(comparison.test.normal_p_value, 0.0495, 1e-4);
+  EXPECT_LT(comparison.test.normal_p_value, kSignificanceLevel);
+  EXPECT_TRUE(comparison.test.p_exact);
+  EXPECT_DOUBLE_EQ(comparison.test.p_value, 0.1);
+  EXPECT_EQ(comparison.order, SampleOrder::within_noise);
+  EXPECT_EQ(compare_samples(y, x).order, SampleOrder::within_noise);
+}
+
+// The exact p-value against brute force: every split of the pooled sample into m and n values,
+// each one's W by gehan_test itself, on random small samples with ties (values 1..4) and about a
+// third censored.
+TEST(GehanTest, ExactPValueMatchesEnumerationOfEverySplit) {
+  std::mt19937 random(20261202u);
+  for (int round = 0; round < 40; ++round) {
+    const std::size_t m = 1 + random() % 6, n = 1 + random() % 6;
+    std::vector<CensoredValue> pooled;
+    for (std::size_t k = 0; k < m + n; ++k)
+      pooled.push_back({static_cast<double>(1 + random() % 4), random() % 3 == 0});
+    const std::vector<CensoredValue> x(pooled.begin(), pooled.begin() + static_cast<std::ptrdiff_t>(m));
+    const std::vector<CensoredValue> y(pooled.begin() + static_cast<std::ptrdiff_t>(m), pooled.end());
+    const GehanTest test = gehan_test(x, y);
+
+    int splits = 0, as_extreme = 0;
+    for (unsigned mask = 0; mask < (1u << pooled.size()); ++mask) {
+      if (static_cast<std::size_t>(__builtin_popcount(mask)) != m) continue;
+      std::vector<CensoredValue> first, second;
+      for (std::size_t k = 0; k < pooled.size(); ++k) ((mask >> k) & 1u ? first : second).push_back(pooled[k]);
+      // W is an integer: compare with a margin instead of relying on exact floating equality.
+      if (std::abs(gehan_test(first, second).statistic) >= std::abs(test.statistic) - 0.5) ++as_extreme;
+      ++splits;
+    }
+    ASSERT_TRUE(test.p_exact) << "round " << round;
+    EXPECT_NEAR(test.p_value, static_cast<double>(as_extreme) / splits, 1e-12)
+        << "round " << round << ", m = " << m << ", n = " << n << ", W = " << test.statistic;
+  }
+}
+
+TEST(GehanTest, LargeSamplesAreExactAndFastUpToTheBound) {
+  // 40 against 40, totally separated: the exact p is 2 / C(80, 40) = 1.8603e-23 (the DP counts
+  // beyond 2^64 in long double, so agree to a relative 1e-12, not exactly).
+  const auto start = std::chrono::steady_clock::now();
+  const GehanTest separated = gehan_test(exact_range(1, 40), exact_range(41, 80));
+  EXPECT_TRUE(separated.p_exact);
+  const double two_over_c_80_40 = 2.0 / 107507208733336176461620.0;
+  EXPECT_NEAR(separated.p_value / two_over_c_80_40, 1.0, 1e-12);
+  // 40 against 40, overlapping, with ties and censoring: exact, and near the normal
+  // approximation, which is good at this size.
+  std::vector<CensoredValue> x, y;
+  for (int k = 0; k < 40; ++k) {
+    x.push_back({static_cast<double>(k % 25), k % 7 == 0});
+    y.push_back({static_cast<double>(3 + k % 25), k % 5 == 0});
+  }
+  const GehanTest overlapping = gehan_test(x, y);
+  EXPECT_TRUE(overlapping.p_exact);
+  EXPECT_GT(overlapping.p_value, 0.0);
+  EXPECT_LT(overlapping.p_value, 1.0);
+  EXPECT_NEAR(overlapping.p_value, overlapping.normal_p_value, 0.01);
+  // The worst case within the documented bound: 50 against 50 distinct values (Σ |u_k| = N² / 2).
+  const GehanTest worst = gehan_test(exact_range(1, 50), exact_range(26, 75));
+  EXPECT_TRUE(worst.p_exact);
+  EXPECT_NEAR(worst.p_value, worst.normal_p_value, 0.01);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 5.0);  // tens of milliseconds in a release build; generous for sanitizers
+}
+
+TEST(GehanTest, BeyondTheBoundTheNormalApproximationIsUsed) {
+  const GehanTest large = gehan_test(exact_range(1, 150), exact_range(101, 250));
+  EXPECT_FALSE(large.p_exact);
+  EXPECT_DOUBLE_EQ(large.p_value, large.normal_p_value);
+  EXPECT_LT(large.p_value, 1e-3);
+  // The DP itself: declines beyond the work limit, counts below it.
+  const std::vector<int> scores{-5, -3, -1, 1, 3, 5};
+  EXPECT_FALSE(exact_gehan_p_value(scores, 3, -9, /*work_limit=*/10.0).has_value());
+  EXPECT_DOUBLE_EQ(exact_gehan_p_value(scores, 3, -9).value(), 0.1);
+  EXPECT_DOUBLE_EQ(exact_gehan_p_value(scores, 3, 1).value(), 1.0);
+  EXPECT_DOUBLE_EQ(exact_gehan_p_value(scores, 0, 0).value(), 1.0);
 }
 
 TEST(GehanTest, CensoredPairsFollowGehansScoring) {
