@@ -69,16 +69,46 @@ PaperReportRow summarize_row(const PaperRow& paper_row, const std::vector<TrialR
   return row;
 }
 
+std::vector<CensoredValue> exact_values(const std::vector<double>& values) {
+  std::vector<CensoredValue> observations;
+  for (const double value : values) observations.push_back({value, false});
+  return observations;
+}
+
 PaperReportCell make_cell(const PaperColumn& column, const PaperReportRow& row,
                           const std::vector<TrialRecord>& trials) {
   PaperReportCell cell;
   switch (column.metric) {
-    case TableMetric::nodes: cell.sample = row.nodes; break;
-    case TableMetric::time_s: cell.sample = row.wall_s; break;
-    case TableMetric::coverage: cell.sample = summarize(metric_values(trials, metric_key_of(column))); break;
+    case TableMetric::nodes:
+      cell.sample = row.nodes;
+      cell.observations = censored_sample(trials, TrialMeasure::nodes);
+      break;
+    case TableMetric::time_s:
+      cell.sample = row.wall_s;
+      cell.observations = censored_sample(trials, TrialMeasure::wall_s);
+      break;
+    case TableMetric::coverage: {
+      const std::vector<double> values = metric_values(trials, metric_key_of(column));
+      cell.sample = summarize(values);
+      cell.observations = exact_values(values);
+      break;
+    }
     case TableMetric::falsified_rate:
       cell.sample.n = row.n;
       cell.sample.mean = row.falsified_rate;
+      // The rate's test compares the 0/1 indicators (Gehan's test without censoring is the
+      // Wilcoxon-Mann-Whitney test; on 0/1 values its tie-corrected permutation variance makes
+      // it the two-proportion test). Errors count as not falsified, as in the rate.
+      for (const TrialRecord& trial : trials)
+        cell.observations.push_back({trial.status == TrialStatus::falsified ? 1.0 : 0.0, false});
+      if (row.n >= 2) {  // the std of the 0/1 sample, so every column's CSV line has one
+        const std::vector<double> indicators = [&] {
+          std::vector<double> v;
+          for (const CensoredValue& o : cell.observations) v.push_back(o.value);
+          return v;
+        }();
+        cell.sample.stddev = summarize(indicators).stddev;
+      }
       break;
   }
   cell.ours = cell.sample.mean;
@@ -151,23 +181,24 @@ std::string stopped_trials_cell(const PaperReportRow& row) {
 }
 
 std::string order_text(const PaperReport& report, const std::vector<std::size_t>& order,
-                       const std::vector<bool>& tied, const std::vector<double>* values) {
+                       const std::vector<bool>& tied, const std::vector<double>* values, std::string_view tie_mark) {
   std::string text;
   for (std::size_t i = 0; i < order.size(); ++i) {
-    if (i > 0) text += tied[i] ? " = " : " < ";
+    if (i > 0) text += tied[i] ? tie_mark : " < ";
     text += report.rows[order[i]].label;
     if (values && std::isnan((*values)[order[i]])) text += " (no value)";
   }
   return text.empty() ? std::string(kMissing) : text;
 }
 
-std::string_view verdict_text(OrderingVerdict verdict) {
-  switch (verdict) {
-    case OrderingVerdict::holds: return "holds";
-    case OrderingVerdict::does_not_hold: return "does not hold";
-    case OrderingVerdict::not_checked: return "not checked";
-  }
-  return "not checked";
+// An exact permutation p-value reads "p = …", a normal approximation "p ≈ …" (GehanTest).
+std::string p_value_text(double p, bool exact) {
+  const std::string_view relation = exact ? "=" : "≈";
+  if (p < 0.001) return "p < 0.001";
+  std::string text = format_significant(p, 2);
+  // Two digits would show 0.0496 as 0.050 beside "holds": keep the side of α visible.
+  if ((p < kSignificanceLevel) != (std::stod(text) < kSignificanceLevel)) text = format_significant(p, 4);
+  return fmt::format("p {} {}", relation, text);
 }
 
 }  // namespace
@@ -184,16 +215,67 @@ std::vector<double> metric_values(const std::vector<TrialRecord>& trials, const 
   return values;
 }
 
+std::string_view to_string(OrderingVerdict verdict) {
+  switch (verdict) {
+    case OrderingVerdict::holds: return "holds";
+    case OrderingVerdict::within_noise: return "within noise";
+    case OrderingVerdict::reversed: return "reversed";
+    case OrderingVerdict::differs: return "differs";
+    case OrderingVerdict::too_few_trials: return "too few trials";
+    case OrderingVerdict::not_checked: return "not checked";
+  }
+  return "not checked";
+}
+
+std::size_t OrderingCheck::count(OrderingVerdict wanted) const {
+  return static_cast<std::size_t>(
+      std::count_if(pairs.begin(), pairs.end(), [&](const OrderedPair& pair) { return pair.verdict == wanted; }));
+}
+
+const OrderedPair* OrderingCheck::pair_ending_at(std::size_t row) const {
+  for (const OrderedPair& pair : pairs)
+    if (pair.second == row) return &pair;
+  return nullptr;
+}
+
+std::string pairs_text(const OrderingCheck& check, const std::vector<std::string>& row_labels) {
+  std::vector<std::string> parts;
+  for (const OrderedPair& pair : check.pairs) {
+    std::string part = fmt::format("{} {} {}: {}", row_labels[pair.first], pair.paper_tied ? "=" : "<",
+                                   row_labels[pair.second], to_string(pair.verdict));
+    if (pair.verdict == OrderingVerdict::too_few_trials)
+      part += fmt::format(" (n = {}, {})", pair.test.n_x, pair.test.n_y);
+    else
+      part += fmt::format(" ({})", p_value_text(pair.test.p_value, pair.test.p_exact));
+    parts.push_back(std::move(part));
+  }
+  return parts.empty() ? std::string(kMissing) : fmt::format("{}", fmt::join(parts, "; "));
+}
+
+std::string verdict_counts_text(const std::vector<const OrderingCheck*>& checks) {
+  const auto total = [&](OrderingVerdict verdict) {
+    std::size_t sum = 0;
+    for (const OrderingCheck* check : checks) sum += check->count(verdict);
+    return sum;
+  };
+  std::string text = fmt::format("{} hold, {} within noise, {} reversed", total(OrderingVerdict::holds),
+                                 total(OrderingVerdict::within_noise), total(OrderingVerdict::reversed));
+  if (const std::size_t few = total(OrderingVerdict::too_few_trials); few > 0) text += fmt::format(", {} too few trials", few);
+  if (const std::size_t differ = total(OrderingVerdict::differs); differ > 0) text += fmt::format(", {} differ", differ);
+  return text;
+}
+
 OrderingCheck check_ordering(const std::vector<double>& paper, const std::vector<double>& ours,
-                             std::size_t column) {
+                             const std::vector<std::vector<CensoredValue>>& samples, std::size_t column) {
   OrderingCheck check;
   check.column = column;
   std::vector<std::size_t> rows;
   for (std::size_t r = 0; r < paper.size(); ++r)
     if (!std::isnan(paper[r])) rows.push_back(r);
   const auto ours_of = [&](std::size_t r) { return r < ours.size() ? ours[r] : kNotReported; };
-  const auto ours_equal = [](double a, double b) {
-    return std::abs(a - b) <= kOrderingTolerance * std::max(std::abs(a), std::abs(b));
+  static const std::vector<CensoredValue> kNoSample;
+  const auto sample_of = [&](std::size_t r) -> const std::vector<CensoredValue>& {
+    return r < samples.size() ? samples[r] : kNoSample;
   };
 
   check.paper_order = rows;
@@ -209,9 +291,11 @@ OrderingCheck check_ordering(const std::vector<double>& paper, const std::vector
     return x < y;
   });
   for (std::size_t i = 0; i < check.ours_order.size(); ++i) {
-    const double x = ours_of(check.ours_order[i]);
-    const bool tied = i > 0 && !std::isnan(x) && !std::isnan(ours_of(check.ours_order[i - 1])) &&
-                      ours_equal(x, ours_of(check.ours_order[i - 1]));
+    bool tied = false;
+    if (i > 0 && !std::isnan(ours_of(check.ours_order[i])) && !std::isnan(ours_of(check.ours_order[i - 1]))) {
+      const SampleOrder order = compare_samples(sample_of(check.ours_order[i - 1]), sample_of(check.ours_order[i])).order;
+      tied = order == SampleOrder::within_noise || order == SampleOrder::too_few_trials;
+    }
     check.ours_tied_with_previous.push_back(tied);
   }
 
@@ -224,15 +308,39 @@ OrderingCheck check_ordering(const std::vector<double>& paper, const std::vector
       check.why_not_checked = fmt::format("row {} has no value of ours", r + 1);
       return check;
     }
-  const auto sign = [](double d) { return (d > 0) - (d < 0); };
-  check.verdict = OrderingVerdict::holds;
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t j = i + 1; j < rows.size(); ++j) {
-      const int paper_sign = sign(paper[rows[i]] - paper[rows[j]]);
-      const double a = ours_of(rows[i]), b = ours_of(rows[j]);
-      const int ours_sign = ours_equal(a, b) ? 0 : sign(a - b);
-      if (paper_sign != ours_sign) check.verdict = OrderingVerdict::does_not_hold;
+
+  // Adjacent pairs of the paper's order: they carry every claim of a strict order, and a
+  // reversal anywhere in ours shows up as a reversed or within-noise adjacent pair.
+  for (std::size_t i = 1; i < check.paper_order.size(); ++i) {
+    OrderedPair pair{.first = check.paper_order[i - 1], .second = check.paper_order[i],
+                     .paper_tied = check.paper_tied_with_previous[i], .verdict = OrderingVerdict::too_few_trials,
+                     .test = {}};
+    const SampleComparison comparison = compare_samples(sample_of(pair.first), sample_of(pair.second));
+    pair.test = comparison.test;
+    switch (comparison.order) {
+      case SampleOrder::too_few_trials: pair.verdict = OrderingVerdict::too_few_trials; break;
+      case SampleOrder::within_noise:
+        pair.verdict = pair.paper_tied ? OrderingVerdict::holds : OrderingVerdict::within_noise;
+        break;
+      case SampleOrder::x_smaller:
+        pair.verdict = pair.paper_tied ? OrderingVerdict::differs : OrderingVerdict::holds;
+        break;
+      case SampleOrder::y_smaller:
+        pair.verdict = pair.paper_tied ? OrderingVerdict::differs : OrderingVerdict::reversed;
+        break;
     }
+    check.pairs.push_back(pair);
+  }
+  if (check.count(OrderingVerdict::reversed) > 0)
+    check.verdict = OrderingVerdict::reversed;
+  else if (check.count(OrderingVerdict::differs) > 0)
+    check.verdict = OrderingVerdict::differs;
+  else if (check.count(OrderingVerdict::holds) == check.pairs.size())
+    check.verdict = OrderingVerdict::holds;
+  else if (check.count(OrderingVerdict::within_noise) > 0)
+    check.verdict = OrderingVerdict::within_noise;
+  else
+    check.verdict = OrderingVerdict::too_few_trials;
   return check;
 }
 
@@ -264,11 +372,13 @@ PaperReport make_paper_report(const PaperTable& table,
   }
   for (std::size_t c = 0; c < table.columns.size(); ++c) {
     std::vector<double> paper, ours;
+    std::vector<std::vector<CensoredValue>> samples;
     for (const PaperReportRow& row : report.rows) {
       paper.push_back(row.cells[c].paper);
       ours.push_back(row.cells[c].ours);
+      samples.push_back(row.cells[c].observations);
     }
-    report.orderings.push_back(check_ordering(paper, ours, c));
+    report.orderings.push_back(check_ordering(paper, ours, samples, c));
   }
   return report;
 }
@@ -313,62 +423,102 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
   }
 
   md += "\n## Trials\n\n";
-  md += markdown_row({"row", "method", "settings", "n", "falsified rate", "nodes median", "nodes 95% CI",
-                      "time median (s)", "time 95% CI (s)", "timeouts"});
-  md += markdown_separator(3, 10);
+  md += markdown_row({"row", "method", "settings", "n", "falsified", "falsified rate", "nodes mean", "nodes median",
+                      "nodes std", "nodes 95% CI", "time mean (s)", "time median (s)", "time std (s)",
+                      "time 95% CI (s)", "timeouts"});
+  md += markdown_separator(3, 15);
   for (const PaperReportRow& row : report.rows) {
     const Bound b = row.censored() ? Bound::lower : Bound::exact;
     any_bound = any_bound || row.censored();
     md += markdown_row({markdown_cell(row.label), markdown_cell(row.method), markdown_cell(settings_text(row.settings)),
-                        fmt::format("{}", row.n),
+                        fmt::format("{}", row.n), fmt::format("{}", row.falsified),
                         std::isnan(row.falsified_rate) ? std::string(kMissing) : fmt::format("{:.2f}", row.falsified_rate),
+                        marked(format_ours(row.nodes.mean, TableMetric::nodes), b),
                         marked(format_ours(row.nodes.median, TableMetric::nodes), b),
+                        format_ours(row.nodes.stddev, TableMetric::nodes),
                         interval_text(row.nodes, TableMetric::nodes, row.censored()),
+                        marked(format_ours(row.wall_s.mean, TableMetric::time_s), b),
                         marked(format_ours(row.wall_s.median, TableMetric::time_s), b),
+                        format_ours(row.wall_s.stddev, TableMetric::time_s),
                         interval_text(row.wall_s, TableMetric::time_s, row.censored()), stopped_trials_cell(row)});
   }
 
   md += "\n## Ordering\n\n";
+  std::vector<std::string> labels;
+  for (const PaperReportRow& row : report.rows) labels.push_back(row.label);
+  std::vector<const OrderingCheck*> checked;
   for (const OrderingCheck& check : report.orderings) {
     std::vector<double> ours;
     for (const PaperReportRow& row : report.rows) ours.push_back(row.cells[check.column].ours);
-    std::string verdict(verdict_text(check.verdict));
-    if (check.verdict == OrderingVerdict::not_checked) verdict += fmt::format(" ({})", check.why_not_checked);
-    md += fmt::format("- ordering ({}): paper {} — ours {} — {}\n", report.columns[check.column].name,
-                      order_text(report, check.paper_order, check.paper_tied_with_previous, nullptr),
-                      order_text(report, check.ours_order, check.ours_tied_with_previous, &ours), verdict);
+    md += fmt::format("- ordering ({}): paper {} — ours {} — ", report.columns[check.column].name,
+                      order_text(report, check.paper_order, check.paper_tied_with_previous, nullptr, " = "),
+                      order_text(report, check.ours_order, check.ours_tied_with_previous, &ours, " ≈ "));
+    if (check.verdict == OrderingVerdict::not_checked) {
+      md += fmt::format("not checked ({})\n", check.why_not_checked);
+      continue;
+    }
+    checked.push_back(&check);
+    md += fmt::format("{} — {}: {}\n", pairs_text(check, labels), to_string(check.verdict),
+                      verdict_counts_text({&check}));
   }
-  md += fmt::format(
-      "\nOrders are ascending; rows the paper does not report (N/A) are left out. The ordering holds iff every "
-      "two rows compare the same way in ours as in the paper, with ours within {:g} % counted as equal.\n",
-      kOrderingTolerance * 100.0);
+  md += fmt::format("\nSummary over the columns' adjacent pairs: {}.\n", verdict_counts_text(checked));
+  md += "\n";
+  md += ordering_method_text();
   if (any_bound)
     md +=
         "\n≥ right-censored: the row has trials stopped by the time limit (⏱) or the node cap, counted with "
-        "the time and nodes they had when stopped, so the true value is at least this. A ratio to a censored "
-        "first row is an upper bound (≤), or neither bound (~) when both rows are censored.\n";
+        "the time and nodes they had when stopped, so the true value is at least this (std and CI are of "
+        "these recorded values). A ratio to a censored first row is an upper bound (≤), or neither bound (~) "
+        "when both rows are censored. The ordering test treats the stopped trials as censored, not as exact.\n";
   return md;
+}
+
+std::string ordering_method_text() {
+  return fmt::format(
+      "Orders are ascending (ours: by the value shown; ≈ not significantly different from the row before); rows "
+      "the paper does not report (N/A) are left out. Each adjacent pair of the paper's order is tested on the two "
+      "rows' trials with Gehan's generalized Wilcoxon test (Gehan 1965, Biometrika 52: 203-223; two-sided, α = {:g}; "
+      "p = exact permutation p-value, counted by dynamic programming over the splits of the pooled trials, always "
+      "for pairs of up to 100 trials together; p ≈ normal approximation with the permutation variance where the "
+      "exact count would cost too much), which ranks a trial stopped by the time limit or "
+      "node cap above every value it certainly exceeds and leaves its order against larger values open: holds = "
+      "ours significantly in the paper's direction, reversed = significantly the other way, within noise = not "
+      "significant, too few trials = a row has fewer than two trials. Where the paper ties (=), ours hold when "
+      "within noise and differ when significantly different. A column holds when every pair holds.\n",
+      kSignificanceLevel);
 }
 
 std::string to_csv(const PaperReport& report, const ReportHeader& header) {
   constexpr std::string_view kLineEnd = "\r\n";
   std::string csv =
       "table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,ci_low,ci_high,"
-      "timeouts";
+      "timeouts,std,falsified,node_caps,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,time_mean_s,"
+      "time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,paper_previous,verdict,p_value";
   csv += kLineEnd;
-  for (const PaperReportRow& row : report.rows)
+  for (std::size_t r = 0; r < report.rows.size(); ++r) {
+    const PaperReportRow& row = report.rows[r];
     for (std::size_t c = 0; c < report.columns.size(); ++c) {
       const PaperReportCell& cell = row.cells[c];
+      const OrderedPair* pair = c < report.orderings.size() ? report.orderings[c].pair_ending_at(r) : nullptr;
       const std::vector<std::string> fields{
           csv_field(report.id),         csv_field(header.profile),   csv_field(row.label),
           csv_field(row.method),        csv_field(report.columns[c].name), csv_number(cell.paper),
           csv_number(cell.ours),        csv_number(cell.paper_ratio), csv_number(cell.ours_ratio),
           fmt::format("{}", cell.sample.n), csv_number(row.falsified_rate), csv_number(cell.sample.median),
           csv_number(cell.sample.ci_low), csv_number(cell.sample.ci_high), fmt::format("{}", row.timeouts),
+          csv_number(cell.sample.stddev), fmt::format("{}", row.falsified), fmt::format("{}", row.node_caps),
+          csv_number(row.nodes.mean),   csv_number(row.nodes.median), csv_number(row.nodes.stddev),
+          csv_number(row.nodes.ci_low), csv_number(row.nodes.ci_high), csv_number(row.wall_s.mean),
+          csv_number(row.wall_s.median), csv_number(row.wall_s.stddev), csv_number(row.wall_s.ci_low),
+          csv_number(row.wall_s.ci_high),
+          pair ? csv_field(report.rows[pair->first].label) : std::string(),
+          pair ? csv_field(to_string(pair->verdict)) : std::string(),
+          pair && pair->verdict != OrderingVerdict::too_few_trials ? csv_number(pair->test.p_value) : std::string(),
       };
       csv += fmt::format("{}", fmt::join(fields, ","));
       csv += kLineEnd;
     }
+  }
   return csv;
 }
 

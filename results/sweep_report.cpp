@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -84,7 +85,7 @@ SweepReport make_sweep_report(const PaperTable& table,
         SweepCell& cell = r.cells[b][i][c];
         if (b < sw.paper.size() && i < sw.paper[b].size() && c < sw.paper[b][i].size()) cell.paper = sw.paper[b][i][c];
         cell.run = c < run;
-        std::vector<double> times;
+        std::vector<double> times, nodes;
         for (const TrialRecord& t : trials[b][i][c]) {
           ++cell.n;
           switch (t.status) {
@@ -94,23 +95,31 @@ SweepReport make_sweep_report(const PaperTable& table,
             case TrialStatus::not_found: ++cell.not_found; break;
             case TrialStatus::error: ++cell.errors; break;
           }
-          if (t.status != TrialStatus::error) times.push_back(t.wall_s);
+          if (t.status != TrialStatus::error) {
+            times.push_back(t.wall_s);
+            nodes.push_back(static_cast<double>(t.nodes));
+          }
         }
-        const SampleSummary s = summarize(times);
-        cell.mean_s = s.mean;
-        cell.median_s = s.median;
-        cell.value = sw.median ? s.median : s.mean;
+        cell.wall_s = summarize(times);
+        cell.nodes = summarize(nodes);
+        cell.observations = censored_sample(trials[b][i][c], TrialMeasure::wall_s);
+        cell.mean_s = cell.wall_s.mean;
+        cell.median_s = cell.wall_s.median;
+        cell.value = sw.median ? cell.median_s : cell.mean_s;
       }
     }
-    // Orderings per run column: the paper's "X" counts as its time limit, ours as the mean.
+    // Orderings per run column: the paper's "X" counts as its time limit (two X's tie), ours are
+    // the cells' censored times.
     for (std::size_t c = 0; c < run; ++c) {
       std::vector<double> paper, ours;
+      std::vector<std::vector<CensoredValue>> samples;
       for (std::size_t i = 0; i < table.rows.size(); ++i) {
         const SweepCell& cell = r.cells[b][i][c];
         paper.push_back(std::isinf(cell.paper) ? sw.paper_timeout_s : cell.paper);
         ours.push_back(cell.value);
+        samples.push_back(cell.observations);
       }
-      r.orderings[b].push_back(check_ordering(paper, ours, c));
+      r.orderings[b].push_back(check_ordering(paper, ours, samples, c));
     }
   }
   return r;
@@ -192,42 +201,81 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
       md += fmt::format(" {} {} / {};", r.rows[i], px, ox);
     }
     md += fmt::format(" (ours only up to {}).\n", run ? r.columns[run - 1] : std::string("–"));
-    md += "\nordering per column (ascending time; paper X = its time limit; pairwise, so rows that both time "
-          "out in ours but not in the paper break it):\n\n";
+    md += "\nstatistics per cell (time in seconds; ≥: the cell has stopped trials, so mean and median are lower "
+          "bounds):\n\n";
+    md += markdown_row({"method", "column", "n", "falsified", "stopped", "time mean", "time median", "time std",
+                        "time 95% CI", "nodes mean", "nodes median", "nodes std", "nodes 95% CI"});
+    md += separator(2, 13);
+    for (std::size_t i = 0; i < r.rows.size(); ++i)
+      for (std::size_t c = 0; c < run; ++c) {
+        const SweepCell& x = r.cells[b][i][c];
+        const auto bound = [&](std::string text) { return x.censored() && text != kMissing ? "≥" + text : text; };
+        const auto interval = [&](const SampleSummary& s, auto format) {
+          if (std::isnan(s.ci_low)) return std::string(kMissing);
+          return bound(fmt::format("[{}, {}]", format(s.ci_low), format(s.ci_high)));
+        };
+        const auto time = [](double v) { return format_significant(v); };
+        const auto count = [](double v) { return std::isnan(v) ? std::string(kMissing) : fmt::format("{:.0f}", v); };
+        md += markdown_row({markdown_cell(r.rows[i]), markdown_cell(r.columns[c]), fmt::format("{}", x.n),
+                            fmt::format("{}", x.falsified), fmt::format("{}", x.timeouts + x.node_caps),
+                            bound(time(x.wall_s.mean)), bound(time(x.wall_s.median)), time(x.wall_s.stddev),
+                            interval(x.wall_s, time), bound(count(x.nodes.mean)), bound(count(x.nodes.median)),
+                            count(x.nodes.stddev), interval(x.nodes, count)});
+      }
+    md += "\nordering per column (ascending time; paper X = its time limit, two X's tie; ours ≈: not significantly "
+          "different from the row before; each adjacent pair of the paper's order tested, see below):\n\n";
     for (const OrderingCheck& check : r.orderings[b]) {
-      auto order = [&](const std::vector<std::size_t>& o, const std::vector<bool>& tied) {
+      auto order = [&](const std::vector<std::size_t>& o, const std::vector<bool>& tied, std::string_view tie_mark) {
         std::string s;
         for (std::size_t k = 0; k < o.size(); ++k) {
-          if (k > 0) s += tied[k] ? " = " : " < ";
+          if (k > 0) s += tied[k] ? tie_mark : " < ";
           s += r.rows[o[k]];
         }
-        return s;
+        return s.empty() ? std::string(kMissing) : s;
       };
-      std::string verdict = check.verdict == OrderingVerdict::holds           ? "holds"
-                            : check.verdict == OrderingVerdict::does_not_hold ? "does not hold"
-                                                                             : "not checked (" + check.why_not_checked + ")";
-      md += fmt::format("- {}: paper {} — ours {} — {}\n", r.columns[check.column],
-                        order(check.paper_order, check.paper_tied_with_previous),
-                        order(check.ours_order, check.ours_tied_with_previous), verdict);
+      md += fmt::format("- {}: paper {} — ours {} — ", r.columns[check.column],
+                        order(check.paper_order, check.paper_tied_with_previous, " = "),
+                        order(check.ours_order, check.ours_tied_with_previous, " ≈ "));
+      if (check.verdict == OrderingVerdict::not_checked)
+        md += fmt::format("not checked ({})\n", check.why_not_checked);
+      else
+        md += fmt::format("{} — {}: {}\n", pairs_text(check, r.rows), to_string(check.verdict),
+                          verdict_counts_text({&check}));
     }
   }
+  std::vector<const OrderingCheck*> checked;
+  for (const auto& block : r.orderings)
+    for (const OrderingCheck& check : block)
+      if (check.verdict != OrderingVerdict::not_checked) checked.push_back(&check);
+  md += fmt::format("\nSummary over the table's adjacent pairs: {}.\n\n", verdict_counts_text(checked));
+  md += ordering_method_text();
   return md;
 }
 
 std::string to_csv(const SweepReport& r, const ReportHeader& header) {
   std::string csv = "table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,falsified_rate,"
-                    "timeouts,errors\r\n";
+                    "timeouts,errors,time_std_s,time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,"
+                    "nodes_ci_low,nodes_ci_high,paper_previous,verdict,p_value\r\n";
   for (std::size_t b = 0; b < r.blocks.size(); ++b)
     for (std::size_t i = 0; i < r.rows.size(); ++i)
       for (std::size_t c = 0; c < r.columns.size(); ++c) {
         const SweepCell& cell = r.cells[b][i][c];
         if (!cell.run) continue;
         const double rate = cell.n ? static_cast<double>(cell.falsified) / static_cast<double>(cell.n) : kNotReported;
-        csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\r\n", csv_field(r.id), csv_field(header.profile),
+        const OrderedPair* pair =
+            b < r.orderings.size() && c < r.orderings[b].size() ? r.orderings[b][c].pair_ending_at(i) : nullptr;
+        csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(r.id), csv_field(header.profile),
                            csv_field(r.blocks[b]), csv_field(r.rows[i]), csv_field(r.methods[i]),
                            csv_field(r.columns[c]), std::isinf(cell.paper) ? std::string("X") : csv_number(cell.paper),
                            csv_number(cell.mean_s), csv_number(cell.median_s), cell.n, cell.falsified,
                            csv_number(rate), cell.timeouts + cell.node_caps, cell.errors);
+        csv += fmt::format(",{},{},{},{},{},{},{},{}", csv_number(cell.wall_s.stddev), csv_number(cell.wall_s.ci_low),
+                           csv_number(cell.wall_s.ci_high), csv_number(cell.nodes.mean), csv_number(cell.nodes.median),
+                           csv_number(cell.nodes.stddev), csv_number(cell.nodes.ci_low), csv_number(cell.nodes.ci_high));
+        csv += fmt::format(",{},{},{}\r\n", pair ? csv_field(r.rows[pair->first]) : std::string(),
+                           pair ? csv_field(to_string(pair->verdict)) : std::string(),
+                           pair && pair->verdict != OrderingVerdict::too_few_trials ? csv_number(pair->test.p_value)
+                                                                                    : std::string());
       }
   return csv;
 }

@@ -10,6 +10,7 @@
 #include "core/paper_table.hpp"
 #include "core/trial_record.hpp"
 #include "results/paper_report.hpp"
+#include "results/statistics.hpp"
 
 namespace hyfal {
 
@@ -21,6 +22,9 @@ struct SweepCell {
   // so a cell with stopped trials is a lower bound (censored()).
   double mean_s = kNotReported, median_s = kNotReported;
   double value = kNotReported;  // what the table shows: mean_s, or median_s for a median table
+  SampleSummary wall_s, nodes;  // mean, median, std, 95 % CI of the cell's trials (errors excluded)
+  // The wall times as the ordering test sees them: stopped trials censored at the time they had.
+  std::vector<CensoredValue> observations;
   bool censored() const { return timeouts > 0 || node_caps > 0; }
   bool all_stopped() const { return n > 0 && timeouts + node_caps == n; }  // our "X"
 };
@@ -31,7 +35,10 @@ struct SweepReport {
   double paper_timeout_s = 0.0;
   bool median = false;
   std::vector<std::vector<std::vector<SweepCell>>> cells;      // [block][row][column]
-  std::vector<std::vector<OrderingCheck>> orderings;           // [block][column], run columns
+  // [block][column], run columns: the paper's order by time (its "X" counts as its time limit)
+  // against ours, each adjacent pair of the paper's order tested on the cells' trials
+  // (check_ordering: Gehan's test of the censored wall times).
+  std::vector<std::vector<OrderingCheck>> orderings;
 };
 
 // trials[block][row][column]: the trials of that cell (any instance). Throws
@@ -40,9 +47,17 @@ SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
                               int columns_run);
 
+// Markdown: per block our cells and the paper's, the fastest method and first X per column, a
+// statistics table (per row and run column: n, falsified, stopped, then mean, median, std and
+// 95 % CI of time and of nodes), and one ordering line per run column with its pair verdicts;
+// then the verdict counts over the table and how they are decided.
 std::string to_markdown(const SweepReport& report, const ReportHeader& header);
 // RFC 4180 CSV, one line per (block, row, column run): table,profile,block,row,method,column,
-// paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,errors (NaN empty, X = inf).
+// paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,errors,time_std_s,
+// time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,
+// paper_previous,verdict,p_value (NaN empty, X = inf; timeouts counts every stopped trial;
+// paper_previous, verdict and p_value: the ordering test against the row before this one in the
+// paper's order of the column, empty for the first).
 std::string to_csv(const SweepReport& report, const ReportHeader& header);
 
 }  // namespace hyfal

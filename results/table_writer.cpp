@@ -61,7 +61,7 @@ std::string to_markdown(std::span<const GroupSummary> groups) {
   std::vector<std::string> header{"suite", "instance", "method"};
   if (show_config) header.emplace_back("config");
   for (const char* name : {"n", "falsified", "rate", "time median (s)", "time mean ± 95% CI (s)",
-                           "time std", "nodes median", "nodes mean ± 95% CI", "timeouts"})
+                           "time std", "nodes median", "nodes mean ± 95% CI", "nodes std", "timeouts"})
     header.emplace_back(name);
 
   std::string table = markdown_row(header);
@@ -85,6 +85,7 @@ std::string to_markdown(std::span<const GroupSummary> groups) {
     row.push_back(format_time(group.wall_s.stddev));
     row.push_back(mark_censored(format_count(group.nodes.median), censored));
     row.push_back(mark_censored(format_mean_with_ci(group.nodes, format_count), censored));
+    row.push_back(format_count(group.nodes.stddev));  // a spread, not a bound: never marked
     row.push_back(stopped_trials_cell(group));
     table += markdown_row(row);
   }

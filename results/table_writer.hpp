@@ -9,7 +9,7 @@ namespace hyfal {
 
 // A GitHub Markdown table, one row per group, columns
 //   suite | instance | method | [config] | n | falsified | rate | time median (s) |
-//   time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | timeouts
+//   time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | nodes std | timeouts
 // The config column appears only when the groups differ in config. A group with timed-out or
 // node-capped trials has its time and nodes medians and means prefixed with "≥" (they are lower
 // bounds) and its timeouts cell reads e.g. "3 ⏱" (plus "2 node cap" for node caps); a footnote

@@ -1,5 +1,6 @@
 // Tests of results/paper_report: the paper's numbers beside ours, ratios to the first row,
-// the ordering check, metric extraction from TrialRecord::metrics, Markdown and CSV.
+// the ordering verdicts of a table (the test itself: test_verdicts), metric extraction from
+// TrialRecord::metrics, Markdown and CSV.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -83,10 +84,30 @@ TEST(PaperReport, MeansAndRatiosToTheFirstRow) {
   EXPECT_LT(a.nodes.ci_low, 200.0);
   EXPECT_GT(a.nodes.ci_high, 200.0);
   ASSERT_EQ(r.orderings.size(), 2u);
-  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::holds);
-  EXPECT_EQ(r.orderings[1].verdict, OrderingVerdict::holds);
+  // Ours follow the paper's order in both columns, but 3 and 2 trials cannot make it significant.
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::within_noise);
+  EXPECT_EQ(r.orderings[1].verdict, OrderingVerdict::within_noise);
   EXPECT_EQ(r.orderings[1].paper_order, (std::vector<std::size_t>{1, 0}));  // B < A by coverage
   EXPECT_EQ(r.orderings[1].ours_order, (std::vector<std::size_t>{1, 0}));
+  // Nodes A {100, 200, 300} vs B {400, 600}: W = -6, u = -4, -2, 0 | 2, 4, Var W = 6 / 20 · 40 = 12.
+  ASSERT_EQ(r.orderings[0].pairs.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.orderings[0].pairs[0].test.statistic, -6.0);
+  EXPECT_NEAR(r.orderings[0].pairs[0].test.variance, 12.0, 1e-12);
+  // Exact: of the C(5, 2) = 10 choices of B's two scores only {2, 4} and {-4, -2} reach |6|: p = 0.2.
+  EXPECT_TRUE(r.orderings[0].pairs[0].test.p_exact);
+  EXPECT_DOUBLE_EQ(r.orderings[0].pairs[0].test.p_value, 0.2);
+  // The test sees the coverage values of the trials that have them: 2 and 2.
+  EXPECT_EQ(r.rows[0].cells[1].observations.size(), 2u);
+}
+
+// n = 10 per row, clearly apart: the verdicts become significant.
+std::vector<std::vector<TrialRecord>> ten_and_ten(std::int64_t a_first, std::int64_t b_first) {
+  std::vector<std::vector<TrialRecord>> trials(2);
+  for (std::int64_t i = 0; i < 10; ++i) {
+    trials[0].push_back(trial(a_first + i, 1.0, TrialStatus::falsified, R"({"coverage":0.1})"));
+    trials[1].push_back(trial(b_first + i, 1.0, TrialStatus::falsified, R"({"coverage":0.1})"));
+  }
+  return trials;
 }
 
 TEST(PaperReport, TimeAndFalsifiedRateColumnsAndErrorsExcluded) {
@@ -103,14 +124,45 @@ TEST(PaperReport, TimeAndFalsifiedRateColumnsAndErrorsExcluded) {
   EXPECT_DOUBLE_EQ(r.rows[0].cells[0].ours, 2.0);
 }
 
-TEST(PaperReport, OrderingDoesNotHoldWhenRowsSwap) {
-  // Paper: B needs fewer nodes than A; ours: A fewer than B.
-  const PaperReport r = make_paper_report(two_by_two(1000, 500, 0.8, 0.4), two_by_two_trials());
-  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::does_not_hold);
-  EXPECT_EQ(r.orderings[1].verdict, OrderingVerdict::holds);
-  const std::string md = to_markdown(r, header_of("smoke"));
-  EXPECT_NE(md.find("- ordering (nodes): paper B < A — ours A < B — does not hold"), std::string::npos) << md;
-  EXPECT_NE(md.find("- ordering (coverage): paper B < A — ours B < A — holds"), std::string::npos) << md;
+TEST(PaperReport, OrderingVerdictsHoldReversedAndWithinNoise) {
+  // Paper: B needs fewer nodes than A; ours: A {100..109} fewer than B {200..209}: reversed.
+  const PaperReport reversed = make_paper_report(two_by_two(1000, 500, 0.8, 0.4), ten_and_ten(100, 200));
+  EXPECT_EQ(reversed.orderings[0].verdict, OrderingVerdict::reversed);
+  // Coverage: paper B < A, ours all 0.1: within noise (it was a failure under the 1 % tie band).
+  EXPECT_EQ(reversed.orderings[1].verdict, OrderingVerdict::within_noise);
+  const std::string md = to_markdown(reversed, header_of("smoke"));
+  EXPECT_NE(md.find("- ordering (nodes): paper B < A — ours A < B — B < A: reversed (p < 0.001) — reversed: 0 hold, "
+                    "0 within noise, 1 reversed\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("- ordering (coverage): paper B < A — ours A ≈ B — B < A: within noise (p = 1.0) — within noise: "
+                    "0 hold, 1 within noise, 0 reversed\n"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("Summary over the columns' adjacent pairs: 0 hold, 1 within noise, 1 reversed."), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("Gehan's generalized Wilcoxon test (Gehan 1965, Biometrika 52: 203-223"), std::string::npos) << md;
+  EXPECT_EQ(md.find("1 %"), std::string::npos) << "the tie band is gone\n" << md;
+
+  // The same trials under the paper's order A < B: holds.
+  const PaperReport holds = make_paper_report(two_by_two(500, 1000, 0.8, 0.4), ten_and_ten(100, 200));
+  EXPECT_EQ(holds.orderings[0].verdict, OrderingVerdict::holds);
+  EXPECT_NE(to_markdown(holds, header_of("smoke")).find("— A < B: holds (p < 0.001) — holds: 1 hold"), std::string::npos);
+}
+
+TEST(PaperReport, TimeoutsAreCensoredInTheOrderingTest) {
+  // Paper: A is faster than B. Ours: A finishes 10 trials in 1..10 s, B times out in all 10 at
+  // 9.5 s. By the recorded times B would look faster; as censored values it is certainly slower.
+  PaperTable t = two_by_two(1, 2, 3, 4);
+  t.columns = {{"time (s)", TableMetric::time_s, ""}};
+  std::vector<std::vector<TrialRecord>> trials(2);
+  for (int i = 0; i < 10; ++i) {
+    trials[0].push_back(trial(10, 1.0 + i * 0.9));  // 1.0 .. 9.1 s
+    trials[1].push_back(trial(10, 9.5, TrialStatus::timeout));
+  }
+  const PaperReport r = make_paper_report(t, trials);
+  EXPECT_EQ(r.rows[1].cells[0].observations.front(), (CensoredValue{9.5, true}));
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::holds);
 }
 
 TEST(PaperReport, NaNPaperValuesAreSkipped) {
@@ -125,7 +177,10 @@ TEST(PaperReport, NaNPaperValuesAreSkipped) {
   EXPECT_DOUBLE_EQ(r.rows[1].cells[0].ours_ratio, 45.0);
   EXPECT_EQ(r.orderings[0].paper_order, (std::vector<std::size_t>{0, 2}));
   EXPECT_EQ(r.orderings[0].ours_order, (std::vector<std::size_t>{0, 2}));
-  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::holds);
+  ASSERT_EQ(r.orderings[0].pairs.size(), 1u);  // A and B only
+  EXPECT_EQ(r.orderings[0].pairs[0].first, 0u);
+  EXPECT_EQ(r.orderings[0].pairs[0].second, 2u);
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::within_noise);  // 3 vs 2 trials
   const std::string md = to_markdown(r, header_of("smoke"));
   EXPECT_NE(md.find("| C | rrt | N/A | – | 9000 | 45.0 |"), std::string::npos) << md;
 
@@ -139,21 +194,20 @@ TEST(PaperReport, NaNPaperValuesAreSkipped) {
   EXPECT_TRUE(std::isnan(make_paper_report(u, two_by_two_trials()).rows[1].cells[1].paper));
 }
 
-TEST(PaperReport, TiesInOursWithinOnePercentAreEqual) {
-  // Paper ties exactly; ours 200 and 201 (0.5 %) tie, 200 and 210 (4.8 %) do not.
-  EXPECT_EQ(check_ordering({1.0, 1.0}, {200.0, 201.0}).verdict, OrderingVerdict::holds);
-  EXPECT_EQ(check_ordering({1.0, 1.0}, {200.0, 210.0}).verdict, OrderingVerdict::does_not_hold);
-  // A strict paper order is not reproduced by a tie of ours.
-  EXPECT_EQ(check_ordering({1.0, 2.0}, {200.0, 201.0}).verdict, OrderingVerdict::does_not_hold);
-  EXPECT_EQ(check_ordering({1.0, 2.0}, {200.0, 210.0}).verdict, OrderingVerdict::holds);
-  const OrderingCheck c = check_ordering({3.0, 1.0, 2.0}, {30.0, 10.0, 10.05});
-  EXPECT_EQ(c.paper_order, (std::vector<std::size_t>{1, 2, 0}));
-  EXPECT_EQ(c.ours_order, (std::vector<std::size_t>{1, 2, 0}));
-  EXPECT_EQ(c.ours_tied_with_previous, (std::vector<bool>{false, true, false}));
-  EXPECT_EQ(c.verdict, OrderingVerdict::does_not_hold);  // paper 1 < 2, ours tie
-  // Missing ours: not checked.
-  EXPECT_EQ(check_ordering({1.0, 2.0}, {1.0, kNotReported}).verdict, OrderingVerdict::not_checked);
-  EXPECT_EQ(check_ordering({1.0}, {1.0}).verdict, OrderingVerdict::not_checked);
+TEST(PaperReport, FalsifiedRateIsTestedOnTheIndicators) {
+  // Paper: A's rate 0.2 is below B's 0.9; ours 0.1 (1 of 10) and 0.9 (9 of 10, one error).
+  PaperTable t = two_by_two(0.2, 0.9, 3, 4);
+  t.columns = {{"rate", TableMetric::falsified_rate, ""}};
+  std::vector<std::vector<TrialRecord>> trials(2);
+  for (int i = 0; i < 10; ++i) {
+    trials[0].push_back(trial(10, 1.0, i < 1 ? TrialStatus::falsified : TrialStatus::not_found));  // 0.1
+    trials[1].push_back(trial(10, 1.0, i < 9 ? TrialStatus::falsified : TrialStatus::error));      // 0.9
+  }
+  const PaperReport r = make_paper_report(t, trials);
+  ASSERT_EQ(r.rows[1].cells[0].observations.size(), 10u) << "errors count, as not falsified";
+  EXPECT_DOUBLE_EQ(r.rows[1].cells[0].ours, 0.9);
+  EXPECT_NEAR(r.rows[1].cells[0].sample.stddev, std::sqrt(0.1), 1e-12);  // 9 ones, 1 zero: var = 0.9 / 9
+  EXPECT_EQ(r.orderings[0].verdict, OrderingVerdict::holds);
 }
 
 TEST(PaperReport, MetricKeyExtraction) {
@@ -216,7 +270,11 @@ TEST(PaperReport, MarkdownHeader) {
         "- notes: hand-made\n", "## nodes\n", "## coverage\n",
         "| row | method | paper | paper × of row 1 | ours | ours × of row 1 |",
         "| A | rrt | 1000 | 1.00 | 200 | 1.00 |", "| B | rrt | 2500 | 2.50 | 500 | 2.50 |",
-        "| A | rrt | 0.8 | 1.00 | 0.600 | 1.00 |", "| A | rrt | step=0.1 | 3 | 0.67 | 200 |"})
+        "| A | rrt | 0.8 | 1.00 | 0.600 | 1.00 |",
+        "| row | method | settings | n | falsified | falsified rate | nodes mean | nodes median | nodes std | nodes 95% CI "
+        "| time mean (s) | time median (s) | time std (s) | time 95% CI (s) | timeouts |",
+        // A: nodes 100, 200, 300 (mean and median 200, std 100), times 1, 2, 3 s (std 1).
+        "| A | rrt | step=0.1 | 3 | 2 | 0.67 | 200 | 200 | 100 | [-48.4, 448] | 2.00 | 2.00 | 1.00 | [-0.484, 4.48] | 0 |"})
     EXPECT_NE(md.find(needle), std::string::npos) << needle << "\n" << md;
 }
 
@@ -228,7 +286,8 @@ TEST(PaperReport, CsvLinesAndEscaping) {
   const std::string csv = to_csv(r, header_of("smoke"));
   const std::string header =
       "table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,ci_low,ci_high,"
-      "timeouts\r\n";
+      "timeouts,std,falsified,node_caps,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,time_mean_s,"
+      "time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,paper_previous,verdict,p_value\r\n";
   ASSERT_EQ(csv.substr(0, header.size()), header);
   std::size_t lines = 0;
   for (std::size_t p = 0; (p = csv.find("\r\n", p)) != std::string::npos; p += 2) ++lines;
@@ -237,6 +296,18 @@ TEST(PaperReport, CsvLinesAndEscaping) {
   EXPECT_NE(csv.find(",\"coverage\nafter 5000\",0.8,0.6,1,1,2,"), std::string::npos) << csv;
   // B's nodes: paper N/A -> empty paper and paper_ratio; ours 500, ratio 2.5; median 500.
   EXPECT_NE(csv.find("test-table,smoke,B,rrt,nodes,,500,,2.5,2,1,500,"), std::string::npos) << csv;
+  // A's nodes, after timeouts: std 100, 2 falsified, 0 node caps, nodes mean 200, median 200,
+  // std 100, CI; the first of the paper's order, so no pair verdict (three empty fields).
+  const std::size_t a_nodes = csv.find("\"t2go, \"\"fast\"\"\",rrt,nodes,");
+  ASSERT_NE(a_nodes, std::string::npos);
+  const std::string a_line = csv.substr(a_nodes, csv.find("\r\n", a_nodes) - a_nodes);
+  EXPECT_NE(a_line.find(",0,100,2,0,200,200,100,"), std::string::npos) << a_line;
+  EXPECT_EQ(a_line.substr(a_line.size() - 3), ",,,") << a_line;
+  // Coverage: paper B (0.4) < A (0.8), so A's line carries the pair B < A.
+  const std::size_t a_coverage = csv.find(",\"coverage\nafter 5000\",0.8,");
+  ASSERT_NE(a_coverage, std::string::npos);
+  const std::string coverage_line = csv.substr(a_coverage, csv.find("\r\n", a_coverage) - a_coverage);
+  EXPECT_NE(coverage_line.find(",B,within noise,0."), std::string::npos) << coverage_line;
 }
 
 TEST(PaperReport, RowCountMismatchThrows) {
@@ -275,9 +346,13 @@ TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
   EXPECT_NEAR(r.cells[0][1][1].mean_s, 0.3, 1e-12);  // errors excluded
   EXPECT_FALSE(r.cells[0][0][2].run);
   EXPECT_TRUE(std::isinf(r.cells[0][0][2].paper));
+  EXPECT_DOUBLE_EQ(a.wall_s.stddev, std::sqrt(2.0));
+  EXPECT_DOUBLE_EQ(a.nodes.mean, 10.0);
+  EXPECT_EQ(r.cells[0][0][1].observations, (std::vector<CensoredValue>{{20.0, true}, {2.0, false}}));
   ASSERT_EQ(r.orderings[0].size(), 2u);
-  EXPECT_EQ(r.orderings[0][0].verdict, OrderingVerdict::does_not_hold);  // paper RRT < HyDICE, ours not
-  EXPECT_EQ(r.orderings[0][1].verdict, OrderingVerdict::does_not_hold);
+  // Paper RRT < HyDICE, ours the other way, but two trials per cell cannot be significant.
+  EXPECT_EQ(r.orderings[0][0].verdict, OrderingVerdict::within_noise);
+  EXPECT_EQ(r.orderings[0][1].verdict, OrderingVerdict::within_noise);
   ReportHeader h;
   h.profile = "quick";
   const std::string md = to_markdown(r, h);
@@ -285,9 +360,56 @@ TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
   EXPECT_NE(md.find("| HyDICE | 1.00 | 0.300 [2/3] |"), std::string::npos) << md;  // the error is not falsified
   EXPECT_NE(md.find("≥11.0"), std::string::npos);
   EXPECT_NE(md.find("| RRT | 0.1 | 0.3 | X |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| method | column | n | falsified | stopped | time mean | time median | time std | time 95% CI |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| RRT | 4² | 2 | 1 | 1 | ≥11.0 | ≥11.0 | 12.7 | ≥[-103, 125] | ≥10 | ≥10 | 0 | ≥[10, 10] |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("- 2²: paper RRT < HyDICE — ours HyDICE ≈ RRT — RRT < HyDICE: within noise (p = "), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("Summary over the table's adjacent pairs: 0 hold, 2 within noise, 0 reversed."), std::string::npos)
+      << md;
   const std::string csv = to_csv(r, h);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4);  // header + 2 rows x 2 run columns
+  EXPECT_EQ(csv.substr(0, csv.find("\r\n")),
+            "table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,"
+            "errors,time_std_s,time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,nodes_ci_low,"
+            "nodes_ci_high,paper_previous,verdict,p_value");
+  // HyDICE 2² comes after RRT in the paper's order: its line carries that pair's verdict.
+  EXPECT_NE(csv.find(",RandomDriver,HyDICE,hydice,2²,0.4,1,1,2,2,1,0,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",RRT,within noise,"), std::string::npos) << csv;
   EXPECT_THROW(make_sweep_report(t, Cells(2), 2), std::invalid_argument);
+
+  // A column without paper values: nothing to order, said so.
+  t.sweep->paper = {{{kNotReported, 0.3, kPaperTimeout}, {kNotReported, 0.6, 1.2}}};
+  const std::string unchecked = to_markdown(make_sweep_report(t, trials, 2), h);
+  EXPECT_NE(unchecked.find("- 2²: paper – — ours – — not checked (fewer than two rows have a paper value)\n"),
+            std::string::npos)
+      << unchecked;
+}
+
+TEST(SweepReport, TenTrialsPerCellGiveSignificantVerdicts) {
+  PaperTable t;
+  t.id = "sweep";
+  t.rows = {{"RRT", "rrt", {}, {}}, {"HyDICE", "hydice", {}, {}}};
+  TableSweep sw;
+  sw.columns = {{"2²", {{"n", "2"}}}};
+  sw.paper = {{{kPaperTimeout}, {0.4}}};  // paper: HyDICE 0.4 s < RRT X
+  sw.paper_timeout_s = 3600;
+  t.sweep = sw;
+  using Cells = std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>;
+  Cells trials(1, std::vector<std::vector<std::vector<TrialRecord>>>(2, std::vector<std::vector<TrialRecord>>(1)));
+  for (int i = 0; i < 10; ++i) {
+    trials[0][0][0].push_back(trial(10, 2.0, TrialStatus::timeout));  // RRT: X at our 2 s cap
+    trials[0][1][0].push_back(trial(10, 0.1 * (i + 1)));              // HyDICE: 0.1 .. 1.0 s
+  }
+  const SweepReport r = make_sweep_report(t, trials, 1);
+  ASSERT_EQ(r.orderings[0].size(), 1u);
+  EXPECT_EQ(r.orderings[0][0].verdict, OrderingVerdict::holds);
+  // Swap the paper's values: ours now reverse the claim.
+  t.sweep->paper = {{{0.4}, {kPaperTimeout}}};
+  EXPECT_EQ(make_sweep_report(t, trials, 1).orderings[0][0].verdict, OrderingVerdict::reversed);
 }
 
 }  // namespace
