@@ -415,9 +415,13 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
     for (const PaperReportRow& row : report.rows) {
       const PaperReportCell& cell = row.cells[c];
       any_bound = any_bound || cell.ours_bound != Bound::exact || cell.ours_ratio_bound != Bound::exact;
+      // A metric only some trials record (coverage after 5000 nodes: only trials that grew that
+      // far) is the mean over those trials: the cell says how many, so a mean of 1 of 10 is seen.
+      std::string ours = marked(format_ours(cell.ours, column.metric), cell.ours_bound);
+      if (column.metric == TableMetric::coverage && cell.sample.n < row.n)
+        ours += fmt::format(" ({} of {} trials)", cell.sample.n, row.n);
       md += markdown_row({markdown_cell(row.label), markdown_cell(row.method), format_paper(cell.paper),
-                          format_significant(cell.paper_ratio),
-                          marked(format_ours(cell.ours, column.metric), cell.ours_bound),
+                          format_significant(cell.paper_ratio), ours,
                           marked(format_significant(cell.ours_ratio), cell.ours_ratio_bound)});
     }
   }

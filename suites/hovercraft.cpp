@@ -195,6 +195,7 @@ PaperTable kim_table2() {
   t.smoke = {2, 10.0, 20000, {}};
   t.quick = {10, 120.0, 1'000'000, {}};
   t.paper = {10, 3600.0, 10'000'000, {}};
+  t.series = {"beta"};  // Fig. 9: β against iterations, per trial of the adaptive row
   t.notes =
       "Paper: 10 trials on a 1 GHz PC, so its times are not comparable with ours; compare the node "
       "counts and the ordering of the rows. The air-force model, the constants (m, J, l, drag, α, β), "

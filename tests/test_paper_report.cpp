@@ -57,6 +57,15 @@ std::vector<std::vector<TrialRecord>> two_by_two_trials() {
   };
 }
 
+// Row A's coverage is the mean of the 2 of its 3 trials that recorded one: the cell says so;
+// row B's 2 of 2 needs no count.
+TEST(PaperReport, ACoverageCellSaysHowManyTrialsItAverages) {
+  const std::string md =
+      to_markdown(make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), two_by_two_trials()), header_of("smoke"));
+  EXPECT_NE(md.find("| 0.600 (2 of 3 trials) |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("of 2 trials)"), std::string::npos) << md;
+}
+
 TEST(PaperReport, MeansAndRatiosToTheFirstRow) {
   const PaperReport r = make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), two_by_two_trials());
   ASSERT_EQ(r.rows.size(), 2u);
