@@ -279,7 +279,7 @@ TEST(PaperReport, MarkdownHeader) {
         "- notes: hand-made\n", "## nodes\n", "## coverage\n",
         "| row | method | paper | paper × of row 1 | ours | ours × of row 1 |",
         "| A | rrt | 1000 | 1.00 | 200 | 1.00 |", "| B | rrt | 2500 | 2.50 | 500 | 2.50 |",
-        "| A | rrt | 0.8 | 1.00 | 0.600 | 1.00 |",
+        "| A | rrt | 0.8 | 1.00 | 0.600 (2 of 3 trials) | 1.00 |",
         "| row | method | settings | n | falsified | falsified rate | nodes mean | nodes median | nodes std | nodes 95% CI "
         "| time mean (s) | time median (s) | time std (s) | time 95% CI (s) | timeouts |",
         // A: nodes 100, 200, 300 (mean and median 200, std 100), times 1, 2, 3 s (std 1).
