@@ -84,6 +84,37 @@ TEST(TimeToGo, ClosedFormEqualsExhaustiveSearch) {
     }
 }
 
+// Why kim-table1's "Alg. 4 as printed" row (t2go also for u_new) needs ~10x the nodes: t2go
+// divides the distance by the best closing speed, and in the thermostat the temperature x1 is
+// the fast direction (|u| up to 4 against rate 1 for time). Among the end states of one step from
+// the same node, the one that moves x1 LEAST toward x_rand keeps more of its distance in the fast
+// direction, so it has the larger closing speed and the smaller t2go. In the off mode with x_rand
+// cooler, argmin t2go picks the slowest cooling (u = -1) where the metric picks the fastest
+// (u = -3), and the counterexample needs fast cooling (suites/thermostat.cpp).
+TEST(TimeToGo, ThermostatInputChoiceByT2goMovesTheLeastTowardTheSample) {
+  const SuiteEntry* suite = find_suite("thermostat");
+  const auto sys = suite->make(resolve_options(suite->parameters, {}));
+  const WeightedEuclidean metric(sys->info().metric_weights);
+  TimeToGo t2go(*sys, metric, {});
+  const Mode off = 0;
+  const double x[3] = {2.5, 1.0, 0.7}, x_rand[3] = {1.5, 6.0, 4.0};
+  const double dt = sys->info().step_duration;
+  const InputSet& U = sys->inputs(off);
+  std::size_t by_t2go = 0, by_metric = 0;
+  double best_t2go = INFINITY, best_rho = INFINITY;
+  for (std::size_t j = 0; j < U.count(); ++j) {
+    const double u = U.input(j)[0];
+    const double x_new[3] = {x[0] + dt * u, x[1] + dt, x[2]};  // off: x1' = u, x2' = 1, x3' = 0
+    const double t = t2go(off, x_new, x_rand), rho = metric.distance(x_new, x_rand);
+    if (t < best_t2go) best_t2go = t, by_t2go = j;
+    if (rho < best_rho) best_rho = rho, by_metric = j;
+  }
+  EXPECT_EQ(U.input(by_t2go)[0], -1.0);   // the slowest cooling
+  EXPECT_EQ(U.input(by_metric)[0], -3.0);  // the fastest cooling, straight toward x_rand
+  // By hand for u = -1 and -3: d1 = 0.9, 0.7; rho^2 = d1^2 + 4.9^2 + 3.3^2; g·rho = 3 d1 + 4.9.
+  EXPECT_NEAR(best_t2go, (0.81 + 24.01 + 10.89) / (2.7 + 4.9), 1e-9);
+}
+
 TEST(HistoryWeight, NormalizesBothTerms) {
   // rho in [1, 3], n in [0, 4]: H = (rho - 1)/2 + n/4.
   const double rho[] = {1.0, 2.0, 3.0, 1.5};
