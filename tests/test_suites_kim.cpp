@@ -318,8 +318,9 @@ TEST(Hovercraft, TablesDeclared) {
   ASSERT_EQ(tt.size(), 1u);
   EXPECT_EQ(tt[0].id, "kim-table1");
   ASSERT_EQ(tt[0].rows.size(), 3u);
-  EXPECT_EQ(tt[0].rows[1].settings, (Settings{{"selection", "t2go"}}));
-  EXPECT_EQ(tt[0].rows[2].settings, (Settings{{"selection", "t2go"}, {"t2go_inputs", "false"}}));
+  // Table I's t2go is Sect. III-A's (x_near only); Alg. 4 as printed is the extra row.
+  EXPECT_EQ(tt[0].rows[1].settings, (Settings{{"selection", "t2go"}, {"t2go_inputs", "false"}}));
+  EXPECT_EQ(tt[0].rows[2].settings, (Settings{{"selection", "t2go"}}));
   EXPECT_TRUE(std::isnan(tt[0].rows[2].paper[0]));
   EXPECT_EQ(tt[0].rows[0].paper, (std::vector<double>{2284.0, 376.4}));
   EXPECT_EQ(tt[0].rows[1].paper, (std::vector<double>{1627.0, 231.0}));
