@@ -364,6 +364,8 @@ def add_timeout_note(ax):
 def plot_plaku_table1(path, out_dir):
     """Seed 002 Table 1 as a figure: time against |Q| (log-log), one panel per driver."""
     blocks = read_sweep_table(path)
+    if not blocks:
+        return []  # a table without cells: nothing to draw
     fig, axes = plt.subplots(1, len(blocks), figsize=(5 * len(blocks), 4.8), sharey=True,
                              squeeze=False)
     colours = {}  # the same colour for a method in every panel
@@ -388,6 +390,8 @@ def plot_plaku_table1(path, out_dir):
 def plot_plaku_table2(path, out_dir):
     """Seed 002 Table 2 as a figure: aircraft conflict resolution, time against N."""
     blocks = read_sweep_table(path)
+    if not blocks:
+        return []
     fig, ax = plt.subplots(figsize=(7, 4.8))
     colours = {}
     for rows in blocks.values():
