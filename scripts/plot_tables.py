@@ -158,12 +158,17 @@ def draw_mean_with_band(ax, series, show_trials, step=False):
     """One line per row: the mean over trials with its 95 % band; optionally each trial thin."""
     for i, (row, trials) in enumerate(series.items()):
         colour = row_colour(i)
-        if show_trials:
-            for points in trials.values():
-                xs, ys = zip(*points)
-                ax.plot(xs, ys, color=colour, linewidth=0.5, alpha=0.25,
-                        drawstyle="steps-post" if step else "default")
         stats = mean_over_trials(trials)
+        if show_trials or not stats:
+            # Without a mean (no x reached by 2 trials) the trials are the figure: draw them
+            # visibly, with markers so that a one-point trial shows too.
+            faint = bool(stats)
+            for k, points in enumerate(trials.values()):
+                xs, ys = zip(*points)
+                ax.plot(xs, ys, color=colour, linewidth=0.5 if faint else 1.0,
+                        alpha=0.25 if faint else 0.8, marker=None if faint else "o",
+                        markersize=3, drawstyle="steps-post" if step else "default",
+                        label=None if faint or k else f"{row} (each trial; no x reached by 2)")
         if not stats:
             continue
         xs = [s[0] for s in stats]
@@ -190,7 +195,8 @@ def series_figure(series, title, xlabel, ylabel, show_trials=True, step=False, l
     draw_mean_with_band(ax, series, show_trials, step)
     if logx if logx is not None else spans_decades(series, 3.0):
         ax.set_xscale("log")
-    if all(y >= 0 for trials in series.values() for pts in trials.values() for _, y in pts):
+    nonnegative = all(y >= 0 for trials in series.values() for pts in trials.values() for _, y in pts)
+    if nonnegative and ax.get_ylim()[0] < 0:
         ax.set_ylim(bottom=0)  # a quantity that cannot be negative: a wide band must not suggest it
     ax.set_title(title)
     ax.set_xlabel(xlabel)
