@@ -66,7 +66,7 @@ def read_csv_rows(path, required):
     """The rows of a CSV file as dicts; InputError if unreadable or a required column is missing."""
     try:
         with open(path, newline="", encoding="utf-8") as f:
-            reader = csv.DictReader(f)
+            reader = csv.DictReader(f, restval="")  # a short line: empty cells, not None
             missing = [c for c in required if c not in (reader.fieldnames or [])]
             if missing:
                 raise InputError(f"{path}: missing column(s) {', '.join(missing)}")
