@@ -8,6 +8,7 @@ packages=(
   libbenchmark-dev libfmt-dev libgtest-dev libcli11-dev libsqlite3-dev sqlite3
   nlohmann-json3-dev libtomlplusplus-dev
   openmpi-bin libopenmpi-dev
+  python3-matplotlib  # scripts/plot_tables.py (run with /usr/bin/python3)
 )
 missing=()
 for p in "${packages[@]}"; do
