@@ -2,9 +2,13 @@
 // quoting for sh, files, the binary run as a child process with caps, and the sqlite3 tool.
 // Each test file includes it once, inside its own unnamed namespace.
 #pragma once
+#include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cctype>
+#include <iostream>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -151,5 +155,35 @@ inline SqlResult sql(const fs::path& db, const std::string& query) {
   for (const auto& line : lines(r.text)) r.rows.push_back(split(line, '|'));
   return r;
 }
+
+// A fresh folder per test: root/work is where hyfal runs, root/io holds its captured output. A
+// failed test keeps its folder for inspection. `prefix` names the test file in the folder's name.
+class HyfalBinaryTest : public ::testing::Test {
+ protected:
+  explicit HyfalBinaryTest(std::string prefix) : prefix_(std::move(prefix)) {}
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    root_ = fs::temp_directory_path() / ("hyfal_" + prefix_ + "_" + name + "_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(work());
+    fs::create_directories(io());
+  }
+  void TearDown() override {
+    if (HasFailure())
+      std::cerr << "[test_" << prefix_ << "] kept " << root_ << " for inspection\n";
+    else
+      fs::remove_all(root_);
+  }
+
+  fs::path work() const { return root_ / "work"; }
+  fs::path io() const { return root_ / "io"; }
+  Result hyfal(const Args& args, int time_cap_s = 120) { return run_hyfal(work(), io(), args, time_cap_s); }
+
+  std::string prefix_;
+  fs::path root_;
+};
 
 }  // namespace hyfal_cli_test

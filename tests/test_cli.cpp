@@ -146,34 +146,13 @@ fs::path make_witness_at(const fs::path& dir, const fs::path& io_dir) {
 // ---------------------------------------------------------------------------------------------
 // Fixture: a fresh directory per test; root/work is where hyfal runs, root/io holds captured output.
 
-class CliTest : public ::testing::Test {
+class CliTest : public HyfalBinaryTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    root_ = fs::temp_directory_path() / ("hyfal_cli_" + name + "_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(work());
-    fs::create_directories(io());
-  }
-  void TearDown() override {
-    if (HasFailure())
-      std::cerr << "[test_cli] kept " << root_ << " for inspection\n";
-    else
-      fs::remove_all(root_);
-  }
-
-  fs::path work() const { return root_ / "work"; }
-  fs::path io() const { return root_ / "io"; }
+  CliTest() : HyfalBinaryTest("cli") {}
   fs::path scratch() const { return root_ / "scratch"; }
-
-  Result hyfal(const Args& args, int time_cap_s = 120) { return run_hyfal(work(), io(), args, time_cap_s); }
 
   fs::path make_witness() { return make_witness_at(scratch() / ("w" + std::to_string(witness_counter_++)), io()); }
 
-  fs::path root_;
   int witness_counter_ = 0;
 };
 

@@ -64,28 +64,9 @@ std::vector<fs::path> files_under(const fs::path& root) {
   return v;
 }
 
-class ShardMergeTest : public ::testing::Test {
+class ShardMergeTest : public HyfalBinaryTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    root_ = fs::temp_directory_path() / ("hyfal_shard_" + name + "_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(work());
-    fs::create_directories(io());
-  }
-  void TearDown() override {
-    if (HasFailure())
-      std::cerr << "[test_shard_merge] kept " << root_ << " for inspection\n";
-    else
-      fs::remove_all(root_);
-  }
-
-  fs::path work() const { return root_ / "work"; }
-  fs::path io() const { return root_ / "io"; }
-  Result hyfal(const Args& args, int time_cap_s = 120) { return run_hyfal(work(), io(), args, time_cap_s); }
+  ShardMergeTest() : HyfalBinaryTest("shard") {}
 
   // run --suite thermostat --trials 12 into db with witnesses under wit, as shard (or all).
   Result thermostat(const std::string& db, const std::string& wit, const std::string& shard = "") {
@@ -105,8 +86,6 @@ class ShardMergeTest : public ::testing::Test {
       ASSERT_EQ(r.code, 0) << r;
     }
   }
-
-  fs::path root_;
 };
 
 // ---------------------------------------------------------------------------------------------
