@@ -119,7 +119,7 @@ TEST(GuardIntruder, PaperTableDeclared) {
     EXPECT_EQ(r.paper.size(), 3u);
   }
   EXPECT_EQ(t.smoke.trials, 2);
-  EXPECT_EQ(t.quick.trials, 10);
+  EXPECT_EQ(t.quick.trials, 30);
   EXPECT_EQ(t.paper.trials, 10);
   EXPECT_EQ(t.paper.max_nodes, 100'000'000);
 }
