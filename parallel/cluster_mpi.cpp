@@ -353,6 +353,7 @@ class MpiCluster final : public Cluster {
   int size() const override { return link_.size(); }
 
   int serve(const SystemResolver& resolve, const std::string& git_commit) override;
+  void check_ranks(const std::string& git_commit) override;
   void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
                   const TrialClaim& claim) override;
   void finish(int rc) override {
@@ -369,11 +370,6 @@ class MpiCluster final : public Cluster {
     std::string host;
   };
   void on_hello(int w, const Event& e, const std::string& git_commit);
-
- public:
-  void check_ranks(const std::string& git_commit) override;
-
- private:
 
   EventQueue events_;
   MpiLink link_;
