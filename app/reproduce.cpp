@@ -467,7 +467,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
                                  table->id, a.profile));
   if (table->rows.empty()) throw UsageError(fmt::format("table '{}' has no rows", table->id));
   const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
-  (void)shard_option(a.shard);
+  (void)shard_option(a.shard);  // a bad --shard is refused before anything is opened
   check_output_path(a.db, "--db");
   check_output_path(a.witness_dir, "--witness-dir");
   check_output_path(a.out_dir, "--out-dir");
