@@ -6,14 +6,28 @@
 // System::input_bounds(q, x), so that the grid keeps its shape (the same number of levels,
 // endpoints included) and every input tried is admissible at x. One InputGrid per thread;
 // no allocation after the first use of the largest Ū.
+//
+// The suite's input policy (SystemInfo::continuous_random_inputs) is every method's: when it is
+// set (navigation's drivers draw u "pseudo-uniformly at random" from an interval, seed 002
+// Sect. 4.1.2), draw() replaces the grid by SystemInfo::random_inputs_per_extension fresh uniform
+// draws from the admissible box, so a method that tries every input of Ū (rrt, rrt-dstar, rrft,
+// enhanced-rrt) tries that many random inputs, drawn the same way as HyDICE draws its one.
 #pragma once
 #include <algorithm>
 #include <span>
 #include <vector>
 
 #include "core/model.hpp"
+#include "core/rng.hpp"
 
 namespace hyfal {
+
+// u uniform on the box [lo, hi] (one unit draw per dimension, in order), clamped at hi where
+// lo + t (hi - lo) rounds past it.
+inline void draw_uniform_input(Rng& rng, std::span<const double> lo, std::span<const double> hi, std::span<double> u) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (std::size_t i = 0; i < u.size(); ++i) u[i] = std::min(hi[i], lo[i] + unit(rng) * (hi[i] - lo[i]));
+}
 
 class InputGrid {
  public:
@@ -23,6 +37,7 @@ class InputGrid {
   // Selects Ū at (q, x); the spans from input() stay valid until the next call.
   void at(Mode q, std::span<const double> x) {
     set_ = &system_.inputs(q);
+    drawn_ = 0;
     if (!dependent_) return;
     const std::size_t m = set_->dim(), k = set_->count();
     lo_.resize(m);
@@ -38,9 +53,22 @@ class InputGrid {
         mapped_[j * m + i] = t >= 1.0 ? hi_[i] : t <= 0.0 ? lo_[i] : std::min(hi_[i], lo_[i] + t * (hi_[i] - lo_[i]));
       }
   }
-  std::size_t count() const { return set_->count(); }
+  // Ū at (q, x) under the suite's input policy: at(q, x), or, for continuous random inputs,
+  // count() fresh uniform draws from the admissible box at x (from `rng`).
+  void draw(Mode q, std::span<const double> x, Rng& rng) {
+    if (!system_.info().continuous_random_inputs) return at(q, x);
+    set_ = &system_.inputs(q);
+    const std::size_t m = set_->dim(), k = static_cast<std::size_t>(system_.info().random_inputs_per_extension);
+    lo_.resize(m);
+    hi_.resize(m);
+    system_.input_bounds(q, x, lo_, hi_);
+    mapped_.resize(m * k);
+    for (std::size_t j = 0; j < k; ++j) draw_uniform_input(rng, lo_, hi_, std::span<double>(mapped_.data() + j * m, m));
+    drawn_ = k;
+  }
+  std::size_t count() const { return drawn_ > 0 ? drawn_ : set_->count(); }
   std::span<const double> input(std::size_t j) const {
-    if (!dependent_) return set_->input(j);
+    if (!dependent_ && drawn_ == 0) return set_->input(j);
     const std::size_t m = set_->dim();
     return {mapped_.data() + j * m, m};
   }
@@ -48,6 +76,7 @@ class InputGrid {
  private:
   const System& system_;
   bool dependent_;
+  std::size_t drawn_ = 0;  // inputs drawn by the last call (draw() with continuous random inputs), else 0
   const InputSet* set_ = nullptr;
   std::vector<double> lo_, hi_, mapped_;
 };

@@ -202,6 +202,9 @@ struct SystemInfo {
   // uniformly over the admissible box (the paper's model draws continuous inputs, e.g. the
   // drivers of seed 002 Sect. 4.1.2).
   bool continuous_random_inputs = false;
+  // With continuous_random_inputs: how many inputs a method that tries every input of Ū and keeps
+  // the best (rrt, rrt-dstar, rrft, enhanced-rrt) draws per extension instead (core/inputs.hpp).
+  int random_inputs_per_extension = 1;
   IntegratorSettings integrator;
   double witness_tolerance = 1e-6;     // validation tolerance on states and on s
   std::size_t dim() const { return initial_state.size(); }

@@ -64,6 +64,21 @@
 // (m_i = the input's bound. As printed, Highway with c = 0.2 brakes whenever |a| > 0.2; we do
 // not second-guess it.) The driver is part of the instance key.
 //
+// Input policy (`inputs`), the same for every method (a comparison of methods must not also be
+// a comparison of input sets). driver (default): Alg. 3:1 of seed 002, "u <- sample control from
+// U_q", is part of the one PropagateForward that every method of its experiments extends the tree
+// with, and the drivers choose u "pseudo-uniformly at random" from their intervals (Sect.
+// 4.1.2). So every method applies controls drawn from the driver's interval at the node: HyDICE
+// one per propagation; a method that would try every input of Ū and keep the best toward x_rand
+// (rrt, rrt-dstar, rrft, enhanced-rrt) draws driver_draws of them (default 1: the extension is
+// then PropagateForward from x_near, as in the paper's baselines; core/inputs.hpp). grid: Ū =
+// the input_levels grid mapped onto the driver's interval, for every method (HyDICE with
+// inputs=auto draws a random element of Ū). Measured (RRT, RandomDriver, 16², property 0, one
+// core): driver_draws = 1 solved 3 of 3 trials in 14-31 s; best of 9 draws solved 1 of 2 in 60 s
+// (9 propagations per extension, most of them from nodes that cannot move); the 3-level grid
+// none in 20 s, and on StudentDriver 2² the grid's result hinged on the levels (no solution in
+// 20 s at 3, 0.2 s at 5, 0.08 s at 7: 3 levels offer only full, zero or reversed acceleration).
+//
 // Safety properties (seed 002 Sect. 4.1.4): 40 per instance, (start, unsafe) terrains drawn
 // uniformly from the instance seed, distinct. `property` picks one. Start: the centre of the
 // start terrain, θ = 0, at rest. Unsafe: (x, y) in the unsafe terrain (closed square), any mode;
@@ -604,6 +619,8 @@ struct Parsed {
   int property = 0;
   double terrain_size = 1.0, step = 1.0, integration_step = 0.01;
   int levels = 3;
+  bool driver_draws = true;  // inputs=driver
+  int draws = 1;             // driver_draws: inputs drawn per extension by the RRT-family methods
   NavWheelUnit wheel_unit = NavWheelUnit::radians;
 };
 
@@ -617,6 +634,12 @@ Parsed parse(const Json& instance) {
   p.step = instance.at("step").get<double>();
   p.integration_step = instance.at("integration_step").get<double>();
   p.levels = instance.at("input_levels").get<int>();
+  const std::string inputs = instance.at("inputs").get<std::string>();
+  if (inputs != "driver" && inputs != "grid")
+    throw std::invalid_argument(fmt::format("navigation: inputs must be driver or grid, not '{}'", inputs));
+  p.driver_draws = inputs == "driver";
+  p.draws = instance.at("driver_draws").get<int>();
+  if (p.draws < 1 || p.draws > 441) throw std::invalid_argument("navigation: driver_draws must be in [1, 441]");
   const std::string unit = instance.at("sddrive_wheel_unit").get<std::string>();
   if (unit == "deg")
     p.wheel_unit = NavWheelUnit::degrees;
@@ -661,7 +684,8 @@ std::shared_ptr<const System> make_navigation(const Json& instance) {
   info.goal_point = {cu[0], cu[1], 0.0, 0.0, 0.0};
   info.coverage = {{0, 1}, {{0.0, 0.0}, {extent, extent}}, extent / std::min(4 * p.n, 1024)};
   info.step_duration = p.step;
-  info.continuous_random_inputs = true;  // the drivers draw u uniformly from their intervals (Sect. 4.1.2)
+  info.continuous_random_inputs = p.driver_draws;  // inputs=driver: see "Input policy" in the header
+  info.random_inputs_per_extension = p.draws;
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = p.integration_step;
   info.integrator.max_step = p.integration_step;
@@ -764,7 +788,15 @@ PaperTable plaku_table1() {
       "differ. SDDrive's wheel limits are read as 5 rad/s and 10 rad/s² (the printed °/s would make it cross a "
       "1 m terrain in a minute; sddrive_wheel_unit=deg restores them). HyDICE uses the suite's decomposition "
       "(2 x 2 regions per terrain), ν, ζ, τ = 1, 2, 0.5 and t_σ = 100 propagations (see core/planners/hydice). "
-      "The paper's times are from a 2011 machine with GSL's RK8 integrator; ours use RK4, ε = 0.01 s, T = 2 s per extension.";
+      "The paper's times are from a 2011 machine with GSL's RK8 integrator; ours use RK4, ε = 0.01 s, T = 2 s per extension. "
+      "Input policy, the same for every method (inputs=driver, driver_draws=1): each extension applies one control "
+      "drawn uniformly from the driver's interval at the node (seed 002 Alg. 3:1, the PropagateForward all its "
+      "methods share); RRT and RRT[D*] pick x_near by the metric and apply it. RRT's stall in large mazes: a "
+      "propagation into a wall stops at the last valid state with the velocity into the wall, from which no control "
+      "moves (every propagation is rejected at its first step); such nodes on the tree's frontier are the nearest "
+      "node to almost every x_rand beyond them, so RRT selects them again and again (at 256², 4.6 M propagations "
+      "and 415 nodes in 10 s). HyDICE's selection (cells weighted 1/nsel²) moves on from them. The paper's RRT "
+      "times out from 64² on, as ours.";
   return t;
 }
 
@@ -780,7 +812,9 @@ SuiteEntry navigation_suite() {
            {"terrain_size", 1.0, "side of one terrain, m", "[0.01, 1000]"},
            {"step", 2.0, "duration T of one tree extension, s", "[0.01, 100]"},
            {"integration_step", 0.01, "RK4 step ε, s", "[1e-5, 10]"},
-           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included)", "[2, 21]"},
+           {"input_levels", 3, "points per input dimension in Ū (grid over U, endpoints included), used with inputs=grid", "[2, 21]"},
+           {"driver_draws", 1, "with inputs=driver: controls drawn per extension by the methods that keep the best of several (rrt, rrt-dstar, rrft, enhanced-rrt); HyDICE draws one", "[1, 441]"},
+           {"inputs", "driver", "input policy of every method: driver (u drawn uniformly from the driver's interval, Sect. 4.1.2) or grid (Ū mapped onto it)", "driver|grid"},
            {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)", "rad|deg"}},
           make_navigation,
           {plaku_table1()},

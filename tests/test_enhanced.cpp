@@ -171,8 +171,25 @@ TEST(BiasedSampler, TruncatedMassIsSpreadUniformly) {
   EXPECT_NEAR(static_cast<double>(above) / N, expected, 0.003);
 }
 
-TEST(AdaptiveBias, BetaIsSuccessesOverSamplesInS) {
-  AdaptiveBias b(4);
+TEST(AdaptiveBias, BetaIsSuccessesOverSamplesInSSinceTheStart) {
+  AdaptiveBias b(4);  // counts over the whole search (the default reading of III.5)
+  EXPECT_EQ(b.beta(), 1.0);
+  b.record(true, true);
+  b.record(true, false);
+  b.record(false, true);
+  EXPECT_TRUE(b.record(true, false));
+  EXPECT_DOUBLE_EQ(b.beta(), 1.0 / 3.0);
+  b.record(true, true);
+  b.record(true, true);
+  b.record(false, false);
+  EXPECT_TRUE(b.record(false, false));
+  EXPECT_DOUBLE_EQ(b.beta(), 3.0 / 5.0);  // 1 + 2 successes of 3 + 2 samples in S
+  for (int i = 0; i < 4; ++i) b.record(false, false);
+  EXPECT_DOUBLE_EQ(b.beta(), 3.0 / 5.0);
+}
+
+TEST(AdaptiveBias, CountsPerWindowRestartEveryNs) {
+  AdaptiveBias b(4, AdaptiveBias::Counts::window);
   EXPECT_EQ(b.beta(), 1.0);  // Alg. 3 starts at β = 1
   EXPECT_FALSE(b.record(true, true));
   EXPECT_FALSE(b.record(true, false));
@@ -181,6 +198,11 @@ TEST(AdaptiveBias, BetaIsSuccessesOverSamplesInS) {
   EXPECT_DOUBLE_EQ(b.beta(), 1.0 / 3.0);
   for (int i = 0; i < 4; ++i) b.record(false, false);  // no sample in S: β kept
   EXPECT_DOUBLE_EQ(b.beta(), 1.0 / 3.0);
+  b.record(true, true);
+  b.record(false, false);
+  b.record(false, false);
+  EXPECT_TRUE(b.record(true, true));
+  EXPECT_DOUBLE_EQ(b.beta(), 1.0);  // only this window's 2 of 2
 }
 
 TEST(Coverage, IncrementalEqualsFromScratchOnATinyGrid) {
@@ -297,13 +319,14 @@ const std::vector<Sets>& pinned_variants() {
       {{"selection", "t2go"}},
       {{"history", "knn"}},
       {{"history", "tree"}},
-      {{"sampling", "adaptive"}, {"n_s", "5"}},
+      {{"sampling", "adaptive"}, {"n_s", "5"}, {"beta_counts", "window"}},
       {{"sampling", "medium"}},
-      {{"selection", "t2go"}, {"history", "knn"}, {"sampling", "adaptive"}, {"n_s", "5"}}};
+      {{"selection", "t2go"}, {"history", "knn"}, {"sampling", "adaptive"}, {"n_s", "5"}, {"beta_counts", "window"}}};
   return v;
 }
 
-// batch = 1 is the sequential algorithm of before the batch option, bit for bit (issue 12): these
+// batch = 1 is the sequential algorithm of before the batch option, bit for bit (issue 12; the
+// adaptive variants name beta_counts=window, which was the only reading then): these
 // fingerprints were recorded from the code before the option existed, except the two node_cap
 // entries (the t2go variants on the thermostat), re-recorded at cap 5000 to keep the test short
 // under ThreadSanitizer, after the same searches at cap 20000 had matched the pre-change

@@ -47,13 +47,18 @@ class BiasedSampler {
   double sigma_min_, sigma_max_;
 };
 
-// β = n_s / n_β of (III.5), recomputed every N_s iterations from the iterations of that window
-// whose sample fell inside S (n_β) and, among them, the successful ones (n_s: the tree grew
-// toward x_rand, rho(x_new, x_rand) < rho(x_near, x_rand)). A window with no sample in S keeps
-// β. Starts at β = 1 (heaviest bias), as Alg. 3.
+// β = n_s / n_β of (III.5), recomputed every N_s iterations: n_β counts the iterations whose
+// sample fell inside S and n_s, among them, the successful ones (the tree grew toward x_rand,
+// rho(x_new, x_rand) < rho(x_near, x_rand)). Starts at β = 1 (heaviest bias), as Alg. 3.
+// Seed 000 says when β is recomputed but not that the counts restart, so by default they run
+// over the whole search (Counts::run): β is the success rate of every sample drawn in S so far.
+// Counts::window restarts them every N_s iterations (a window with no sample in S keeps β); it
+// locks β at 0 once a window's few samples in S all fail, because at β = 0 (σ = σ_max) almost
+// no sample lands in a small S again (hovercraft: β = 0 in ~94 % of the updates).
 class AdaptiveBias {
  public:
-  explicit AdaptiveBias(int window) : window_(window < 1 ? 1 : window) {}
+  enum class Counts { run, window };
+  explicit AdaptiveBias(int n_s, Counts counts = Counts::run) : window_(n_s < 1 ? 1 : n_s), counts_(counts) {}
   double beta() const { return beta_; }
   // Records one iteration; returns true when β was recomputed.
   bool record(bool sample_in_spec, bool successful) {
@@ -63,14 +68,15 @@ class AdaptiveBias {
     }
     if (++iterations_ % window_ != 0) return false;
     if (n_beta_ > 0) beta_ = static_cast<double>(n_s_) / static_cast<double>(n_beta_);
-    n_s_ = n_beta_ = 0;
+    if (counts_ == Counts::window) n_s_ = n_beta_ = 0;
     return true;
   }
 
  private:
-  int window_;
+  long window_;
+  Counts counts_;
   long iterations_ = 0;
-  int n_s_ = 0, n_beta_ = 0;
+  long n_s_ = 0, n_beta_ = 0;
   double beta_ = 1.0;
 };
 

@@ -11,7 +11,9 @@
 //   sampling  = uniform | medium | heavy | adaptive   B(x; µ, β) (III.6) around the suite's
 //                                goal point with σ(β) (III.7): fixed β = 0.5 (medium), fixed
 //                                β = 1 (heavy, σ = σ_min), or β = n_s / n_β updated every N_s
-//                                iterations (III.5), starting at β = 1 (Alg. 3).
+//                                iterations (III.5), starting at β = 1 (Alg. 3); the counts run
+//                                over the whole search (beta_counts=run) or restart every N_s
+//                                (window): core/samplers/biased_sampler.hpp says why run.
 // With adaptive sampling, an x_near that fails to grow toward a sample inside S is excluded
 // from selection for later samples inside S (Sect. III-C). The secondary stop of Alg. 3 ends
 // the search (not_found) when the coverage gained over the last `coverage_window` nodes is
@@ -80,6 +82,7 @@ struct EnhancedOptions {
   int k;
   double sigma_min, sigma_max;
   int n_s;
+  AdaptiveBias::Counts beta_counts;
   int coverage_window;
   double delta_c_min;
   std::int64_t coverage_at;
@@ -108,6 +111,8 @@ EnhancedOptions parse_options(const Json& o) {
   e.sigma_min = o.at("sigma_min").get<double>();
   e.sigma_max = o.at("sigma_max").get<double>();
   e.n_s = o.at("n_s").get<int>();
+  e.beta_counts = parse_choice<AdaptiveBias::Counts>(o, "beta_counts", {{"run", AdaptiveBias::Counts::run},
+                                                                        {"window", AdaptiveBias::Counts::window}});
   e.coverage_window = o.at("coverage_window").get<int>();
   e.delta_c_min = o.at("delta_c_min").get<double>();
   e.coverage_at = o.at("coverage_at").get<std::int64_t>();
@@ -187,7 +192,7 @@ class EnhancedRrt final : public Planner {
 
     check_enhanced_system(sys, o_);
     const BiasedSampler biased_sampler(info.sampling_box, info.goal_point, o_.sigma_min, o_.sigma_max);
-    AdaptiveBias adaptive(o_.n_s);
+    AdaptiveBias adaptive(o_.n_s, o_.beta_counts);
 
     std::vector<std::unique_ptr<Slot>> slots;
     for (std::size_t s = 0; s < batch_; ++s) {
@@ -268,7 +273,7 @@ class EnhancedRrt final : public Planner {
         slot.counters = {};
         slot.tree = static_cast<std::size_t>(iteration % static_cast<std::int64_t>(trees));
         sample(rng, beta, slot);
-        propose(sys, metric, p, forest[slot.tree], slot);
+        propose(sys, metric, p, forest[slot.tree], rng, slot);
       } else {
         parallel_slots(batch_, ctx.cpu, [&](std::size_t s) {  // against the forest of the round's start
           Slot& slot = *slots[s];
@@ -277,7 +282,7 @@ class EnhancedRrt final : public Planner {
           slot.tree = static_cast<std::size_t>((iteration + static_cast<std::int64_t>(s)) % static_cast<std::int64_t>(trees));
           Rng g(slot_seed(ctx.seed, round, s));
           sample(g, beta, slot);
-          propose(sys, metric, p, forest[slot.tree], slot);
+          propose(sys, metric, p, forest[slot.tree], g, slot);
         });
       }
       for (const auto& slot : slots) {  // every propagation of the round was made
@@ -340,7 +345,7 @@ class EnhancedRrt final : public Planner {
   // Lines 3-4 of Alg. 4 for one slot, reading the tree only (it runs concurrently with the other
   // slots of its round): x_near, then every input of Ū propagated and scored by rho or t2go
   // toward x_rand, the inputs sorted by score (the order lines 5-9 try them in).
-  void propose(const System& sys, const WeightedEuclidean& metric, std::span<const double> p, const Tree& t,
+  void propose(const System& sys, const WeightedEuclidean& metric, std::span<const double> p, const Tree& t, Rng& g,
                Slot& slot) const {
     const std::size_t n = metric.dim();
     slot.near = select_near(t, metric, slot);
@@ -348,7 +353,7 @@ class EnhancedRrt final : public Planner {
     const Mode q = t.nodes.info(slot.near).mode;
     slot.q = q;
     const auto x_near = t.nodes.state(slot.near);
-    slot.U.at(q, x_near);
+    slot.U.draw(q, x_near, g);  // Ū, or fresh random inputs under the suite's policy
     const std::size_t nu = slot.U.count();
     slot.states.resize(nu * n);
     slot.score.assign(nu, std::numeric_limits<double>::infinity());
@@ -538,6 +543,8 @@ MethodEntry enhanced_rrt_method() {
            {"sigma_min", 0.05, "σ_min of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
            {"sigma_max", 0.5, "σ_max of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
            {"n_s", 50, "N_s: iterations between β updates (III.5)", "[1, 1000000]"},
+           {"beta_counts", "run", "n_s, n_β of (III.5) over the whole search (run) or the last N_s iterations (window)",
+            "run|window"},
            {"coverage_window", 0, "N of the secondary stop: stop when c gains < delta_c_min over N nodes (0: off)", "[0, 100000000]"},
            {"delta_c_min", 1e-4, "Δc_min of the secondary stop", "[0, 1]"},
            {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded", "[1, inf)"},

@@ -681,7 +681,7 @@ class HydiceSearch {
     for (std::int64_t j = 0; j < o_.controls; ++j) {
       double* u = d.inputs.data() + static_cast<std::size_t>(j) * m_;
       if (draw_box_) {
-        for (std::size_t i = 0; i < m_; ++i) u[i] = ulo_[i] + unit(g) * (uhi_[i] - ulo_[i]);
+        draw_uniform_input(g, ulo_, uhi_, std::span<double>(u, m_));
       } else {
         const auto gi = grid_.input(std::uniform_int_distribution<std::size_t>(0, grid_.count() - 1)(g));
         std::copy(gi.begin(), gi.end(), u);

@@ -518,7 +518,7 @@ class Rrft final : public Planner {
     for (int a = 0; a < o_.K && added < quota && t.leaf == kNoNode; ++a) {
       if (budget.exhausted(0)) return;  // time or cancellation (the node cap is the quota's)
       for (std::size_t i = 0; i < n; ++i) t.x_rand[i] = t.uniform[i](t.rng);
-      const RrtExtensionResult r = t.step.extend(t.nodes, *t.nn, *t.prop, t.x_rand, t.p, t.counters);
+      const RrtExtensionResult r = t.step.extend(t.nodes, *t.nn, *t.prop, t.x_rand, t.p, t.rng, t.counters);
       if (!r.added()) {
         if (t.prop->interrupted()) return;  // the deadline passed mid-extension: not a stall
         ++t.failed_streak;
@@ -556,7 +556,7 @@ class Rrft final : public Planner {
         auto axis = t.uniform[d];  // a copy: distributions are not const-callable
         slot.x_rand[d] = axis(g);
       }
-      slot.step.propose(t.nodes, t.nn->nearest(slot.x_rand).id, *slot.prop, slot.x_rand, t.p, slot.counters);
+      slot.step.propose(t.nodes, t.nn->nearest(slot.x_rand).id, *slot.prop, slot.x_rand, t.p, g, slot.counters);
       slot.interrupted = slot.prop->interrupted();
       slot.proposed = true;
     });

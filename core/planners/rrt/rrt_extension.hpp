@@ -3,7 +3,9 @@
 // that the step exists once:
 //   x_near = argmin_j rho(x_j, x_rand)                    (KD-tree, exact);
 //   Ū(x_near) = the suite's Ū_q mapped onto the admissible box at x_near (core/inputs.hpp:
-//               the identity for state-independent inputs; a driver's box for navigation);
+//               the identity for state-independent inputs; a driver's box for navigation),
+//               or |Ū_q| fresh uniform draws from that box where the suite's input policy is
+//               continuous random inputs (from the caller's stream);
 //   u_new = argmin_{u in Ū(x_near)} rho(x_rand, propagate(x_near, u, δt));
 //   a propagation "makes progress" unless it was rejected (it left the invariant at once) or
 //   ended after zero time without a jump or the unsafe set (the no-progress filter);
@@ -44,19 +46,20 @@ class RrtExtension {
   // parameters p over the suite's δt. Counts propagations, integration steps and the node added
   // into `counters`.
   RrtExtensionResult extend(NodeStore& tree, NearestNeighbors& nn, Propagator& prop, std::span<const double> x_rand,
-                            std::span<const double> p, PlannerCounters& counters) {
-    propose(tree, nn.nearest(x_rand).id, prop, x_rand, p, counters);
+                            std::span<const double> p, Rng& rng, PlannerCounters& counters) {
+    propose(tree, nn.nearest(x_rand).id, prop, x_rand, p, rng, counters);
     return commit(tree, nn, counters);
   }
 
-  // Phases 1-2 from x_near = `near`: propagations and integration steps go to `counters`.
+  // Phases 1-2 from x_near = `near`: propagations and integration steps go to `counters`;
+  // random inputs (if the suite's policy draws them) come from `rng`.
   void propose(const NodeStore& tree, NodeId near, Propagator& prop, std::span<const double> x_rand,
-               std::span<const double> p, PlannerCounters& counters) {
+               std::span<const double> p, Rng& rng, PlannerCounters& counters) {
     near_ = near;
     progress_ = false;
     const Mode q = tree.info(near).mode;
     const auto x_near = tree.state(near);
-    inputs_.at(q, x_near);
+    inputs_.draw(q, x_near, rng);
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < inputs_.count(); ++j) {
       const PropagationResult r = prop.propagate(q, x_near, inputs_.input(j), p, system_.info().step_duration, candidate_);

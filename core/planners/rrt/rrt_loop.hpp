@@ -75,17 +75,18 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
     std::vector<double> x_rands(batch * n);
     std::vector<Neighbor> nearest(batch);
     std::vector<std::size_t> found(batch);
+    std::vector<Rng> slot_streams(batch);  // slot s's stream: its x_rand, then its random inputs
     for (std::uint64_t round = 0;; ++round) {
       if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
       for (std::size_t s = 0; s < batch; ++s) {  // select: the samples, in slot order
-        Rng g(slot_seed(ctx.seed, round, s));
-        source.sample(g, std::span<double>(x_rands.data() + s * n, n));
+        slot_streams[s] = Rng(slot_seed(ctx.seed, round, s));
+        source.sample(slot_streams[s], std::span<double>(x_rands.data() + s * n, n));
       }
       nn.knn_batch(x_rands, 1, nearest, found, ctx.cpu);  // x_near of every slot, one batch
       parallel_slots(batch, ctx.cpu, [&](std::size_t s) {  // propagate, against the frozen tree
         slots[s]->counters = {};
         slots[s]->step.propose(tree, nearest[s].id, *slots[s]->prop,
-                               std::span<const double>(x_rands.data() + s * n, n), p, slots[s]->counters);
+                               std::span<const double>(x_rands.data() + s * n, n), p, slot_streams[s], slots[s]->counters);
       });
       for (std::size_t s = 0; s < batch; ++s) {  // commit, in slot order
         c.propagations += slots[s]->counters.propagations;
@@ -106,7 +107,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   while (true) {
     if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
     source.sample(rng, x_rand);
-    const RrtExtensionResult r = step.extend(tree, nn, *prop, x_rand, p, c);
+    const RrtExtensionResult r = step.extend(tree, nn, *prop, x_rand, p, rng, c);
     if (!r.added()) continue;
     source.added(tree.state(r.node));
     if (r.reached_unsafe) return finish(r.node, TrialStatus::falsified);
