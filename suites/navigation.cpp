@@ -82,7 +82,12 @@
 // Safety properties (seed 002 Sect. 4.1.4): 40 per instance, (start, unsafe) terrains drawn
 // uniformly from the instance seed, distinct. `property` picks one. Start: the centre of the
 // start terrain, θ = 0, at rest. Unsafe: (x, y) in the unsafe terrain (closed square), any mode;
-// s = signed Euclidean distance to that square (s <= 0 inside). n >= 2 (two distinct terrains).
+// s = signed Euclidean distance to that square (s <= 0 inside).
+// n = 1 (the paper's 1² column): one terrain leaves no other terrain to be unsafe, yet the paper
+// reports times for 1² as short as for 2² (0.1-0.4 s), i.e. a small but real task. We draw the
+// start and unsafe places among the terrain's four quarters (distinct, from the same stream):
+// start at the centre of one quarter, unsafe = another quarter (a square of side s/2, also one
+// HyDICE region), no walls inside. NavigationInstance::place_box says which square a place is.
 //
 // Randomness: SplitMix64 streams keyed by (seed, purpose) — vehicles, wall order, wall keeping,
 // properties — and Lemire's unbiased bounded integers, so an instance is identical on every
@@ -181,7 +186,7 @@ NavDriver navigation_driver_from_name(std::string_view name) {
 
 NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, double terrain_size,
                                                 double keep_probability) {
-  if (n < 2 || n > 4096) throw std::invalid_argument("navigation: n must be in [2, 4096]");
+  if (n < 1 || n > 4096) throw std::invalid_argument("navigation: n must be in [1, 4096]");
   if (!(terrain_size > 0.0) || !std::isfinite(terrain_size))
     throw std::invalid_argument("navigation: terrain_size must be a finite number > 0");
   if (!(keep_probability >= 0.0 && keep_probability <= 1.0))
@@ -208,7 +213,7 @@ NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, doubl
       if (q / un + 1 < un) walls.push_back(2 * q + 1);
     }
     InstanceStream order(seed, "navigation/wall-order");
-    for (std::size_t i = walls.size() - 1; i > 0; --i) std::swap(walls[i], walls[order.below(i + 1)]);
+    for (std::size_t i = walls.size(); i-- > 1;) std::swap(walls[i], walls[order.below(i + 1)]);  // n = 1: no walls
     std::vector<std::uint32_t> parent(count);
     std::vector<std::uint8_t> rank(count, 0);
     for (std::uint32_t q = 0; q < count; ++q) parent[q] = q;
@@ -240,9 +245,10 @@ NavigationInstance NavigationInstance::generate(int n, std::uint64_t seed, doubl
   }
 
   InstanceStream props(seed, "navigation/properties");
+  const std::uint64_t places = g.places();
   for (auto& p : g.properties_) {
-    p.start = static_cast<std::uint32_t>(props.below(count));
-    p.unsafe = static_cast<std::uint32_t>(props.below(count - 1));
+    p.start = static_cast<std::uint32_t>(props.below(places));
+    p.unsafe = static_cast<std::uint32_t>(props.below(places - 1));
     if (p.unsafe >= p.start) ++p.unsafe;
   }
   return g;
@@ -384,8 +390,11 @@ constexpr int kCellsPerRegion = 8;
 
 class NavigationDecomposition final : public Decomposition {
  public:
-  NavigationDecomposition(std::shared_ptr<const NavigationInstance> maze, Mode unsafe)
-      : maze_(std::move(maze)), unsafe_(unsafe), hops_(maze_->terrains(), kFar) {
+  // `unsafe_place`: a property's unsafe place (a terrain; for n = 1 a quarter of terrain 0).
+  NavigationDecomposition(std::shared_ptr<const NavigationInstance> maze, std::uint32_t unsafe_place)
+      : maze_(std::move(maze)), unsafe_(maze_->place_mode(unsafe_place)), unsafe_place_(unsafe_place),
+        hops_(maze_->terrains(), kFar) {
+    const Mode unsafe = unsafe_;
     // Breadth-first search from the unsafe terrain through open passages: hops_[q] = the
     // fewest terrain changes from q to it, each one G_D edge (O(n^2) once; 4 MB at n = 1024).
     std::vector<std::uint32_t> queue;
@@ -477,7 +486,9 @@ class NavigationDecomposition final : public Decomposition {
     across(NavSide::north, ri, true, 0);
     across(NavSide::south, ri, true, g - 1);
   }
-  bool is_unsafe(RegionId r) const override { return r / kG2 == unsafe_; }
+  // n = 1: the unsafe place is a quarter, i.e. region `unsafe_place_` of terrain 0 (regions are
+  // the terrain's quarters, row-major, as the places).
+  bool is_unsafe(RegionId r) const override { return maze_->n() == 1 ? r == unsafe_place_ : r / kG2 == unsafe_; }
   void project(Mode, std::span<const double> x, std::span<double, 2> out) const override {
     out[0] = x[0];
     out[1] = x[1];
@@ -501,7 +512,8 @@ class NavigationDecomposition final : public Decomposition {
   static constexpr RegionId kG2 = static_cast<RegionId>(kRegionGrid) * kRegionGrid;
   static constexpr std::uint32_t kFar = std::numeric_limits<std::uint32_t>::max();
   std::shared_ptr<const NavigationInstance> maze_;
-  Mode unsafe_;
+  Mode unsafe_;                 // the unsafe terrain
+  std::uint32_t unsafe_place_;  // the property's unsafe place
   std::vector<std::uint32_t> hops_;  // terrain hops to the unsafe terrain (kFar: unreachable)
 };
 
@@ -512,12 +524,12 @@ class Navigation {
   Navigation(std::shared_ptr<const NavigationInstance> maze, NavigationProperty property, NavDriver driver,
              NavWheelUnit unit, int levels)
       : maze_(std::move(maze)), property_(property), driver_(driver), unit_(unit), decomposition_(std::make_shared<NavigationDecomposition>(maze_, property.unsafe)) {
+    static_assert(kRegionGrid == 2, "n = 1 places are the quarters = the regions of the one terrain");
     for (int v = 0; v < 3; ++v) {
       const NavVehicleLimits l = limits_[v] = navigation_limits(static_cast<NavVehicle>(v), unit);
       inputs_[v] = InputSet::grid({{-l.u0_max, -l.u1_max}, {l.u0_max, l.u1_max}}, levels);
     }
-    const auto lo = maze_->corner(property.unsafe);
-    unsafe_ = {lo[0], lo[1], lo[0] + maze_->terrain_size(), lo[1] + maze_->terrain_size()};
+    unsafe_ = maze_->place_box(property.unsafe);
   }
 
   int dim() const { return 5; }
@@ -645,7 +657,7 @@ Parsed parse(const Json& instance) {
     p.wheel_unit = NavWheelUnit::degrees;
   else if (unit != "rad")
     throw std::invalid_argument(fmt::format("navigation: sddrive_wheel_unit must be rad or deg, not '{}'", unit));
-  if (p.n < 2 || p.n > 4096) throw std::invalid_argument("navigation: n must be in [2, 4096]");
+  if (p.n < 1 || p.n > 4096) throw std::invalid_argument("navigation: n must be in [1, 4096]");
   if (p.property < 0 || p.property >= NavigationInstance::kProperties)
     throw std::invalid_argument("navigation: property must be in [0, 39]");
   if (!(p.terrain_size > 0.0)) throw std::invalid_argument("navigation: terrain_size must be > 0");
@@ -672,16 +684,16 @@ std::shared_ptr<const System> make_navigation(const Json& instance) {
   info.instance = instance;
   info.state_names = {"x", "y", "theta", "a", "b"};
   info.input_names = {"u0", "u1"};
-  info.initial_mode = prop.start;
-  const auto c0 = maze->centre(prop.start);
-  info.initial_state = {c0[0], c0[1], 0.0, 0.0, 0.0};
+  info.initial_mode = maze->place_mode(prop.start);
+  const auto b0 = maze->place_box(prop.start);
+  info.initial_state = {0.5 * (b0[0] + b0[2]), 0.5 * (b0[1] + b0[3]), 0.0, 0.0, 0.0};
   info.sampling_box = {{0.0, 0.0, -std::numbers::pi, -v_max, -phi_max},
                        {extent, extent, std::numbers::pi, v_max, phi_max}};
   const double tenth = 0.1 * s;
   info.metric_weights = {1.0, 1.0, tenth * tenth, (tenth / v_max) * (tenth / v_max),
                          (tenth / phi_max) * (tenth / phi_max)};
-  const auto cu = maze->centre(prop.unsafe);
-  info.goal_point = {cu[0], cu[1], 0.0, 0.0, 0.0};
+  const auto bu = maze->place_box(prop.unsafe);
+  info.goal_point = {0.5 * (bu[0] + bu[2]), 0.5 * (bu[1] + bu[3]), 0.0, 0.0, 0.0};
   info.coverage = {{0, 1}, {{0.0, 0.0}, {extent, extent}}, extent / std::min(4 * p.n, 1024)};
   info.step_duration = p.step;
   info.continuous_random_inputs = p.driver_draws;  // inputs=driver: see "Input policy" in the header
@@ -740,6 +752,7 @@ Json navigation_instance_json(const Json& instance) {
           {"dynamics", std::move(dynamics)},
           {"passages", std::move(passages)},
           {"properties", std::move(properties)},
+          {"property_places", p.n == 1 ? "quarters" : "terrains"},
           {"constants", std::move(constants)}};
 }
 
@@ -758,34 +771,35 @@ PaperTable plaku_table1() {
             {"HyDICE[NoLeads]", "hydice-noleads", {}, {}},
             {"HyDICE", "hydice", {}, {}}};
   TableSweep sw;
-  for (const int n : {2, 4, 8, 16, 32, 64, 128, 512, 1024})
+  for (const int n : {1, 2, 4, 8, 16, 32, 64, 128, 512, 1024})
     sw.columns.push_back({fmt::format("{}²", n), {{"n", std::to_string(n)}}});
   sw.blocks = {{"RandomDriver", {{"driver", "random"}}},
                {"StudentDriver", {{"driver", "student"}}},
                {"HighwayDriver", {{"driver", "highway"}}}};
   sw.instance_key = "property";
   sw.paper_timeout_s = 3600.0;
-  // The paper's columns 2² .. 1024² (its 1² column is left out: see the notes).
-  sw.paper = {{{0.1, 0.3, 1.5, 16.8, 195.3, X, X, X, X},
-               {0.9, 0.5, 4.7, 5.1, 24.8, 411.3, X, X, X},
-               {0.1, 0.3, 3.6, 5.7, 10.0, 147.1, 564.8, X, X},
-               {0.4, 0.6, 1.2, 1.5, 2.4, 11.1, 66.1, 352.7, 1198.4}},
-              {{0.2, 0.7, 2.4, 25.4, 210.5, X, X, X, X},
-               {1.4, 0.3, 1.0, 4.6, 23.2, 605.8, X, X, X},
-               {0.1, 0.4, 3.4, 5.6, 10.3, 189.2, 576.8, X, X},
-               {0.4, 0.7, 1.3, 1.8, 3.4, 12.4, 64.6, 294.5, 1289.9}},
-              {{0.2, 0.3, 2.9, 25.5, 219.3, X, X, X, X},
-               {0.7, 0.2, 0.9, 3.9, 23.7, 515.5, X, X, X},
-               {0.1, 0.4, 4.0, 5.9, 8.8, 151.6, 514.9, X, X},
-               {0.4, 0.6, 1.3, 1.8, 2.9, 10.9, 70.4, 288.9, 954.8}}};
+  // The paper's columns 1² .. 1024² (1²: the one terrain's quarters, see the suite's header).
+  sw.paper = {{{0.1, 0.1, 0.3, 1.5, 16.8, 195.3, X, X, X, X},
+               {0.1, 0.9, 0.5, 4.7, 5.1, 24.8, 411.3, X, X, X},
+               {0.1, 0.1, 0.3, 3.6, 5.7, 10.0, 147.1, 564.8, X, X},
+               {0.4, 0.4, 0.6, 1.2, 1.5, 2.4, 11.1, 66.1, 352.7, 1198.4}},
+              {{0.1, 0.2, 0.7, 2.4, 25.4, 210.5, X, X, X, X},
+               {0.1, 1.4, 0.3, 1.0, 4.6, 23.2, 605.8, X, X, X},
+               {0.1, 0.1, 0.4, 3.4, 5.6, 10.3, 189.2, 576.8, X, X},
+               {0.4, 0.4, 0.7, 1.3, 1.8, 3.4, 12.4, 64.6, 294.5, 1289.9}},
+              {{0.1, 0.2, 0.3, 2.9, 25.5, 219.3, X, X, X, X},
+               {0.2, 0.7, 0.2, 0.9, 3.9, 23.7, 515.5, X, X, X},
+               {0.1, 0.1, 0.4, 4.0, 5.9, 8.8, 151.6, 514.9, X, X},
+               {0.4, 0.4, 0.6, 1.3, 1.8, 2.9, 10.9, 70.4, 288.9, 954.8}}};
   t.sweep = std::move(sw);
-  t.smoke = {1, 10.0, 200'000, {}, 1, 2};        // 2², 4²; property 0
-  t.quick = {1, 20.0, 3'000'000, {}, 3, 7};      // up to 128²; properties 0-2
+  t.smoke = {1, 10.0, 200'000, {}, 1, 3};        // 1², 2², 4²; property 0
+  t.quick = {1, 20.0, 3'000'000, {}, 3, 8};      // up to 128²; properties 0-2
   t.paper = {1, 3600.0, 50'000'000, {}, 40, -1}; // every column, the 40 properties
   t.notes =
       "Instance seed 1 for every |Q| (the maze, vehicles and the 40 properties come from it); one trial per "
-      "property. The paper's 1² column is left out: with one terrain the start and unsafe terrains cannot "
-      "differ. SDDrive's wheel limits are read as 5 rad/s and 10 rad/s² (the printed °/s would make it cross a "
+      "property. 1²: one terrain leaves no other terrain to be unsafe, so its start and unsafe places are two of "
+      "its four quarters (start at a quarter's centre, unsafe = another quarter; the paper's 1² times, as short as "
+      "its 2² ones, imply such a small task). SDDrive's wheel limits are read as 5 rad/s and 10 rad/s² (the printed °/s would make it cross a "
       "1 m terrain in a minute; sddrive_wheel_unit=deg restores them). HyDICE uses the suite's decomposition "
       "(2 x 2 regions per terrain), ν, ζ, τ = 1, 2, 0.5 and t_σ = 100 propagations (see core/planners/hydice). "
       "The paper's times are from a 2011 machine with GSL's RK8 integrator; ours use RK4, ε = 0.01 s, T = 2 s per extension. "
@@ -805,7 +819,7 @@ PaperTable plaku_table1() {
 SuiteEntry navigation_suite() {
   return {"navigation",
           "seed 002 Sect. 4.1: n x n terrains (SCar/SUni/SDDrive), Kruskal maze walls; reach the unsafe terrain",
-          {{"n", 4, "terrains per side (|Q| = n^2 modes), 2..4096", "[2, 4096]"},
+          {{"n", 4, "terrains per side (|Q| = n^2 modes), 1..4096 (n = 1: start and unsafe are quarters of the one terrain)", "[1, 4096]"},
            {"seed", 1, "instance seed: dynamics per terrain, walls, the 40 properties", "[0, inf)"},
            {"driver", "random", "driver model: random | student | highway (for planners that use it)", "random|student|highway"},
            {"property", 0, "which of the instance's 40 (start, unsafe) properties, 0..39", "[0, 39]"},

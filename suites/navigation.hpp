@@ -42,8 +42,9 @@ std::string_view navigation_vehicle_name(NavVehicle v);  // "SCar", "SUni", "SDD
 std::string_view navigation_driver_name(NavDriver d);    // "random", "student", "highway"
 NavDriver navigation_driver_from_name(std::string_view name);  // throws std::invalid_argument
 
-// One safety property: start at the centre of terrain `start` (heading 0, at rest); unsafe =
-// inside terrain `unsafe` (start != unsafe).
+// One safety property: start at the centre of place `start` (heading 0, at rest); unsafe =
+// inside place `unsafe` (start != unsafe). The places are the terrains, except for n = 1, where
+// they are the one terrain's four quarters (NavigationInstance::place_box).
 struct NavigationProperty {
   std::uint32_t start = 0, unsafe = 0;
 };
@@ -61,7 +62,7 @@ class NavigationInstance {
   // Vehicles, Kruskal maze, then each wall the maze kept is kept with probability
   // keep_probability (the paper's p = 0.9; 1.0 gives the bare spanning tree), then the
   // properties; all drawn from `seed` with platform-independent generators (SplitMix64
-  // streams), so an instance is the same on every compiler and machine. 2 <= n <= 4096.
+  // streams), so an instance is the same on every compiler and machine. 1 <= n <= 4096.
   static NavigationInstance generate(int n, std::uint64_t seed, double terrain_size,
                                      double keep_probability = kKeepWall);
 
@@ -105,6 +106,17 @@ class NavigationInstance {
   std::array<double, 2> centre(Mode q) const { return {(col(q) + 0.5) * size_, (row(q) + 0.5) * size_}; }
 
   const std::array<NavigationProperty, kProperties>& properties() const { return properties_; }
+  // The places a property's start and unsafe set are drawn from: the n² terrains; for n = 1 (the
+  // paper's 1² column: one terrain has no other terrain to be unsafe) its 2 x 2 quarters, place
+  // i = (row, col) = (i / 2, i % 2), each the square of side s/2 (and, for HyDICE, exactly one
+  // decomposition region). Where n >= 2 a place is a terrain.
+  std::uint32_t places() const { return n_ == 1 ? 4u : static_cast<std::uint32_t>(terrains()); }
+  Mode place_mode(std::uint32_t place) const { return n_ == 1 ? 0 : place; }
+  std::array<double, 4> place_box(std::uint32_t place) const {  // x_lo, y_lo, x_hi, y_hi
+    if (n_ != 1) return {corner(place)[0], corner(place)[1], corner(place)[0] + size_, corner(place)[1] + size_};
+    const double h = 0.5 * size_, x = (place % 2) * h, y = (place / 2) * h;
+    return {x, y, x + h, y + h};
+  }
 
   std::size_t passages() const;          // number of open passages (undirected)
   bool connected() const;                // every terrain reachable through open passages (BFS)
@@ -142,7 +154,8 @@ std::shared_ptr<const NavigationInstance> navigation_instance(const System& syst
 //   format "hyfal-navigation/1", instance (the key), n, seed, terrain_size, driver, property,
 //   vehicles {"C": "SCar", "U": "SUni", "D": "SDDrive"}, dynamics (a string of n^2 letters
 //   C/U/D, terrain q = row * n + col at index q), passages ([[q, q'], ...], q < q', sorted),
-//   properties ([[start, unsafe], ...], 40 of them), constants (per vehicle limits, L, r).
+//   properties ([[start, unsafe], ...], 40 of them; places: terrains, or for n = 1 the quarters 0..3 = 2 row + col,
+//   property_places says which), constants (per vehicle limits, L, r).
 // Throws std::invalid_argument on bad values, as the suite does.
 Json navigation_instance_json(const Json& instance);
 

@@ -304,7 +304,7 @@ std::vector<BadCase> bad_cases() {
   add("ReproduceDbEmpty", {"reproduce", "kim-table1", "--profile", "smoke", "--db", "", "--out-dir", "out/t"});
   add("ReproduceThreadsHuge", {"reproduce", "kim-table1", "--profile", "smoke", "--threads", "5000", "--db",
                                "out/db.sqlite", "--out-dir", "out/t", "--witness-dir", "out/w"});
-  add("InstanceExportBadRange", {"instance", "export", "--suite", "navigation", "--set", "n=1"});
+  add("InstanceExportBadRange", {"instance", "export", "--suite", "navigation", "--set", "n=0"});
   // run: paths
   add("DbUnderProc", run_args({"--db", "/proc/forbidden/x.sqlite", "--witness-dir", "out/wit"}));
   add("DbParentIsRegularFile", run_args({"--db", "plain/x.sqlite", "--witness-dir", "out/wit"}), plain_file);

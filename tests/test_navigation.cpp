@@ -17,6 +17,7 @@
 #include "core/options.hpp"
 #include "core/system.hpp"
 #include "core/trajectory.hpp"
+#include "core/decomposition.hpp"
 #include "suites/navigation.hpp"
 #include "suites/registry.hpp"
 
@@ -533,8 +534,10 @@ TEST(NavigationDrivers, WitnessWithAnInputOutsideTheDriversBandAtTheBoundIsRejec
 // --- parameters and export -------------------------------------------------------------------
 
 TEST(NavigationSuite, BadValuesThrow) {
-  EXPECT_THROW(make({{"n", "1"}}), std::invalid_argument);
+  EXPECT_THROW(make({{"n", "0"}}), std::invalid_argument);
   EXPECT_THROW(make({{"n", "5000"}}), std::invalid_argument);
+  EXPECT_THROW(make({{"inputs", "best"}}), std::invalid_argument);
+  EXPECT_THROW(make({{"driver_draws", "0"}}), std::invalid_argument);
   EXPECT_THROW(make({{"property", "40"}}), std::invalid_argument);
   EXPECT_THROW(make({{"property", "-1"}}), std::invalid_argument);
   EXPECT_THROW(make({{"driver", "racer"}}), std::invalid_argument);
@@ -567,7 +570,99 @@ TEST(NavigationSuite, InstanceJsonExport) {
   EXPECT_EQ(j.at("properties").at(3).at(0).get<std::uint32_t>(), m.properties()[3].start);
   EXPECT_EQ(j.at("properties").at(3).at(1).get<std::uint32_t>(), m.properties()[3].unsafe);
   EXPECT_DOUBLE_EQ(j.at("constants").at("SCar").at("L").get<double>(), 0.8);
-  EXPECT_THROW(navigation_instance_json(instance_key({{"n", "1"}})), std::invalid_argument);
+  EXPECT_EQ(j.at("property_places"), "terrains");
+  EXPECT_EQ(navigation_instance_json(instance_key({{"n", "1"}})).at("property_places"), "quarters");
+  EXPECT_THROW(navigation_instance_json(instance_key({{"n", "0"}})), std::invalid_argument);
+}
+
+// --- one terrain (the paper's 1² column) -------------------------------------------------------
+
+TEST(NavigationOneTerrain, PropertiesAreDistinctQuartersOfTheTerrain) {
+  int seen[4][4] = {};
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const NavigationInstance m = NavigationInstance::generate(1, seed, 2.0);
+    EXPECT_EQ(m.places(), 4u);
+    EXPECT_EQ(m.passages(), 0u);
+    for (const NavigationProperty& p : m.properties()) {
+      ASSERT_LT(p.start, 4u);
+      ASSERT_LT(p.unsafe, 4u);
+      ASSERT_NE(p.start, p.unsafe);
+      ++seen[p.start][p.unsafe];
+    }
+  }
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      if (a != b) EXPECT_GT(seen[a][b], 30) << a << " -> " << b;  // 800 draws over 12 pairs
+  const NavigationInstance m = NavigationInstance::generate(1, 1, 2.0);
+  EXPECT_EQ(m.place_box(0), (std::array<double, 4>{0.0, 0.0, 1.0, 1.0}));
+  EXPECT_EQ(m.place_box(1), (std::array<double, 4>{1.0, 0.0, 2.0, 1.0}));
+  EXPECT_EQ(m.place_box(2), (std::array<double, 4>{0.0, 1.0, 1.0, 2.0}));
+  EXPECT_EQ(m.place_box(3), (std::array<double, 4>{1.0, 1.0, 2.0, 2.0}));
+  EXPECT_EQ(NavigationInstance::generate(3, 1, 2.0).place_box(4), (std::array<double, 4>{2.0, 2.0, 4.0, 4.0}));
+}
+
+TEST(NavigationOneTerrain, StartAtAQuarterCentreUnsafeIsAnotherQuarterAndItsRegion) {
+  for (int property = 0; property < 6; ++property) {
+    auto sys = make({{"n", "1"}, {"property", std::to_string(property)}, {"terrain_size", "2"}});
+    const NavigationProperty p = navigation_instance(*sys)->properties()[property];
+    const SystemInfo& info = sys->info();
+    EXPECT_EQ(info.initial_mode, 0);
+    EXPECT_DOUBLE_EQ(info.initial_state[0], 0.5 + (p.start % 2));
+    EXPECT_DOUBLE_EQ(info.initial_state[1], 0.5 + (p.start / 2));
+    EXPECT_GT(sys->spec(0, info.initial_state, {}), 0.0);
+    const std::vector<double> inside = {0.5 + (p.unsafe % 2), 0.5 + (p.unsafe / 2), 0.0, 0.0, 0.0};
+    EXPECT_LE(sys->spec(0, inside, {}), -0.5 + 1e-12);
+    const Decomposition* d = sys->decomposition();
+    ASSERT_NE(d, nullptr);
+    for (RegionId r = 0; r < 4; ++r) EXPECT_EQ(d->is_unsafe(r), r == p.unsafe) << r;
+  }
+}
+
+TEST(NavigationOneTerrain, EveryMethodFalsifiesWithAValidWitness) {
+  auto sys = make({{"n", "1"}, {"property", "0"}});
+  for (const char* method : {"rrt", "rrt-dstar", "hydice", "hydice-noleads"}) {
+    auto planner = find_method(method)->make(resolve_options(find_method(method)->options, {}));
+    const PlannerContext ctx{*sys, sys->info().parameters, 7, PlannerLimits{15.0, 200'000}, {}};
+    const PlannerOutcome out = planner->solve(ctx);
+    ASSERT_EQ(out.status, TrialStatus::falsified) << method;
+    Witness w;
+    w.suite = sys->info().suite;
+    w.instance = sys->info().instance;
+    w.method = method;
+    w.state_names = sys->info().state_names;
+    w.input_names = sys->info().input_names;
+    w.trajectory = *out.trajectory;
+    const ValidationReport report = validate_witness(*sys, w);
+    EXPECT_TRUE(report.valid) << method << ": " << report.reason;
+  }
+}
+
+// --- input policy ------------------------------------------------------------------------------
+
+// inputs=driver (default): the RRT extension applies driver_draws controls drawn uniformly from
+// the driver's interval, not the grid: the tree's edges carry non-grid inputs, each inside the
+// driver's box at its node; inputs=grid: every edge input is a grid point.
+TEST(NavigationInputPolicy, DriverDrawsAreContinuousAndAdmissibleGridIsTheGrid) {
+  for (const char* policy : {"driver", "grid"}) {
+    auto sys = make({{"n", "4"}, {"driver", "random"}, {"inputs", policy}});
+    EXPECT_EQ(sys->info().continuous_random_inputs, std::string(policy) == "driver");
+    auto planner = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
+    const PlannerContext ctx{*sys, sys->info().parameters, 3, PlannerLimits{10.0, 20000}, {}};
+    const PlannerOutcome out = planner->solve(ctx);
+    ASSERT_TRUE(out.trajectory) << policy << ": " << static_cast<int>(out.status);
+    int off_grid = 0;
+    for (const auto& piece : out.trajectory->pieces) {
+      std::vector<double> lo(2), hi(2);
+      sys->input_bounds(piece.mode, piece.x_start, lo, hi);
+      for (int i = 0; i < 2; ++i) {
+        EXPECT_GE(piece.u[i], lo[i]);
+        EXPECT_LE(piece.u[i], hi[i]);
+        off_grid += piece.u[i] != lo[i] && piece.u[i] != hi[i] && piece.u[i] != lo[i] + 0.5 * (hi[i] - lo[i]);
+      }
+    }
+    if (std::string(policy) == "grid") EXPECT_EQ(off_grid, 0);
+    else EXPECT_GT(off_grid, 0);
+  }
 }
 
 // --- baseline RRT ----------------------------------------------------------------------------
