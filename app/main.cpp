@@ -22,6 +22,7 @@
 #include "parallel/cluster.hpp"
 #include "parallel/trial_engine.hpp"
 #include "results/statistics.hpp"
+#include "results/ompl_log.hpp"
 #include "results/store.hpp"
 #include "results/table_writer.hpp"
 #include "suites/registry.hpp"
@@ -179,13 +180,30 @@ int cmd_run(const RunArgs& a) {
 int cmd_table(const std::string& db, const std::string& experiment, const std::string& format,
               const std::string& output) {
   if (!fs::exists(db)) throw UsageError(fmt::format("no results database at '{}'", db));
-  if (!output.empty() && output != "-") {
+  // ompl-log: one log per (suite, instance); -o DIR (an existing folder, or a path ending in '/')
+  // writes each to DIR/<k>-<suite>.log, as OMPL's tools read one experiment per file.
+  const bool log_dir = format == "ompl-log" && !output.empty() && (output.back() == '/' || fs::is_directory(output));
+  if (log_dir) {
+    cli::check_directory_creatable(output, "-o");
+  } else if (!output.empty() && output != "-") {
     if (fs::is_directory(output)) throw UsageError(fmt::format("-o '{}' is a directory", output));
     const fs::path parent = fs::path(output).parent_path();
     cli::check_directory_creatable(parent.empty() ? "." : parent.string(), "-o");
   }
   TrialStore store = TrialStore::open_read_only(db);
   const auto rows = store.load(experiment.empty() ? std::nullopt : std::optional<std::string>(experiment));
+  if (format == "ompl-log") {
+    const auto logs = to_ompl_logs(rows);
+    std::string all;
+    for (std::size_t k = 0; k < logs.size(); ++k) {
+      if (log_dir)
+        write_output((fs::path(output) / fmt::format("{}-{}.log", k + 1, logs[k].suite)).string(), logs[k].text);
+      else
+        all += logs[k].text;
+    }
+    if (!log_dir) write_output(output, all);
+    return 0;
+  }
   const auto groups = summarize_trials(rows);
   write_output(output, format == "csv" ? to_csv(groups) : to_markdown(groups));
   return 0;
@@ -401,8 +419,10 @@ int run_command(int argc, char** argv) {
   auto* table = app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
   table->add_option("--db", tdb, "SQLite results database")->capture_default_str();
   table->add_option("--experiment", texp, "only this experiment");
-  table->add_option("--format", tformat, "md or csv")->check(CLI::IsMember({"md", "csv"}))->capture_default_str();
-  table->add_option("--output,-o", tout, "write to this file instead of stdout");
+  table->add_option("--format", tformat, "md, csv, or ompl-log (OMPL's benchmark log, one experiment per suite instance)")
+      ->check(CLI::IsMember({"md", "csv", "ompl-log"}))
+      ->capture_default_str();
+  table->add_option("--output,-o", tout, "write to this file instead of stdout (ompl-log: or into this folder, one file per experiment)");
 
   cli::ReproduceArgs pa;
   auto* reproduce = app.add_subcommand(

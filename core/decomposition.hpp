@@ -22,6 +22,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -56,6 +57,15 @@ class Decomposition {
   // distinct regions have distinct indices.
   virtual std::uint64_t dense_size() const { return 0; }
   virtual std::uint64_t dense_index(RegionId r) const { return r; }
+  // A regular grid over two state dimensions that every region lies in one cell of, for planners
+  // that need a grid decomposition of the state space (OMPL's Syclop, core/planners/ompl); nullopt
+  // when the regions form no such grid.
+  struct StateGrid {
+    std::array<int, 2> dims;  // the state dimensions the grid spans
+    int cells_per_side;
+    std::array<double, 2> lo, hi;  // the grid's extent along dims[0] and dims[1]
+  };
+  virtual std::optional<StateGrid> state_grid() const { return std::nullopt; }
 };
 
 }  // namespace hyfal

@@ -46,12 +46,16 @@ class InputGrid {
     mapped_.resize(m * k);
     const Box& box = set_->box;
     for (std::size_t j = 0; j < k; ++j)
-      for (std::size_t i = 0; i < m; ++i) {
-        const double width = box.hi[i] - box.lo[i];
-        const double t = width > 0.0 ? (set_->values[j * m + i] - box.lo[i]) / width : 0.5;
-        // lo + t (hi - lo), exact at both ends so that the endpoints stay admissible.
-        mapped_[j * m + i] = t >= 1.0 ? hi_[i] : t <= 0.0 ? lo_[i] : std::min(hi_[i], lo_[i] + t * (hi_[i] - lo_[i]));
-      }
+      for (std::size_t i = 0; i < m; ++i)
+        mapped_[j * m + i] = map_onto(set_->values[j * m + i], box.lo[i], box.hi[i], lo_[i], hi_[i]);
+  }
+  // The affine image of v in [from_lo, from_hi] on [lo, hi]: lo + t (hi - lo) with t the position
+  // of v in its interval (the middle when that interval is a point), exact at both ends so that
+  // the endpoints stay admissible. Also how the OMPL methods map a control (core/planners/ompl).
+  static double map_onto(double v, double from_lo, double from_hi, double lo, double hi) {
+    const double width = from_hi - from_lo;
+    const double t = width > 0.0 ? (v - from_lo) / width : 0.5;
+    return t >= 1.0 ? hi : t <= 0.0 ? lo : std::min(hi, lo + t * (hi - lo));
   }
   // Ū at (q, x) under the suite's input policy: at(q, x), or, for continuous random inputs,
   // count() fresh uniform draws from the admissible box at x (from `rng`).

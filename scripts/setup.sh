@@ -8,6 +8,8 @@ packages=(
   libbenchmark-dev libfmt-dev libgtest-dev libcli11-dev libsqlite3-dev sqlite3
   nlohmann-json3-dev libtomlplusplus-dev
   openmpi-bin libopenmpi-dev
+  libompl-dev  # OMPL's control planners as methods ompl-* (optional component)
+  ompl-demos   # ompl_benchmark_statistics: the ctest that reads `hyfal table --format ompl-log`
   python3-matplotlib  # scripts/plot_tables.py (run with /usr/bin/python3)
 )
 missing=()

@@ -507,6 +507,10 @@ class NavigationDecomposition final : public Decomposition {
   // Ids q g^2 + cell are dense over all modes: the planner's per-region data live in arrays.
   std::uint64_t dense_size() const override { return static_cast<std::uint64_t>(maze_->terrains()) * kG2; }
   std::uint64_t dense_index(RegionId r) const override { return r; }
+  // The grid of terrains over (x, y) (each terrain's regions lie in its cell): OMPL's Syclop.
+  std::optional<StateGrid> state_grid() const override {
+    return StateGrid{{0, 1}, maze_->n(), {0.0, 0.0}, {maze_->extent(), maze_->extent()}};
+  }
 
  private:
   static constexpr RegionId kG2 = static_cast<RegionId>(kRegionGrid) * kRegionGrid;

@@ -2,6 +2,9 @@
 #include "core/planner.hpp"
 #include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
 #include "core/planners/hydice/hydice.hpp"
+#ifdef HYFAL_HAVE_OMPL
+#include "core/planners/ompl/ompl_methods.hpp"
+#endif
 #include "core/planners/rrft/rrft.hpp"
 #include "core/planners/rrt/rrt.hpp"
 #include "core/planners/rrt_dstar/rrt_dstar.hpp"
@@ -16,6 +19,9 @@ const std::vector<MethodEntry>& all_methods() {
       hydice_noleads_method(),
       rrt_dstar_method(),
       rrft_method(),
+#ifdef HYFAL_HAVE_OMPL  // last, so that a build without OMPL lists a prefix of the README's settings table
+      ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method(),
+#endif
   };
   return methods;
 }
