@@ -402,4 +402,25 @@ PaperTable load_paper_table(std::string_view text, const std::string& file_name)
   return t;
 }
 
+const std::vector<PaperTable>& builtin_paper_tables() {
+  static const std::vector<PaperTable> tables = [] {
+    std::vector<PaperTable> v;
+    for (const EmbeddedFile& f : embedded_paper_table_files()) {
+      PaperTable t = load_paper_table(f.text, std::string(f.path));
+      const std::string expected = "experiments/paper/" + t.id + ".toml";
+      if (f.path != expected)
+        throw ExperimentFileError(fmt::format("{}: id: '{}' must be the file's name ({})", f.path, t.id, expected));
+      v.push_back(std::move(t));
+    }
+    return v;
+  }();
+  return tables;
+}
+
+const PaperTable* find_builtin_paper_table(std::string_view id) {
+  for (const PaperTable& t : builtin_paper_tables())
+    if (t.id == id) return &t;
+  return nullptr;
+}
+
 }  // namespace hyfal

@@ -2,9 +2,11 @@
 // format is documented in the README ("Tables and experiments as TOML files"); a new table is one
 // such file, no C++.
 #pragma once
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/paper_table.hpp"
 
@@ -26,5 +28,22 @@ class ExperimentFileError : public std::invalid_argument {
 // numbers, "N/A" (not reported, kNotReported) or "X" (the paper's timeout, kPaperTimeout).
 // Throws ExperimentFileError.
 PaperTable load_paper_table(std::string_view text, const std::string& file_name);
+
+// A file compiled into the binary: its path in the source tree and its text.
+struct EmbeddedFile {
+  std::string_view path, text;
+};
+
+// experiments/paper/*.toml as they were at build time, sorted by path (app/embed_files.cmake
+// generates the definition).
+std::span<const EmbeddedFile> embedded_paper_table_files();
+
+// The compiled-in paper tables, read once, in file order. Each file is named after its table
+// (experiments/paper/<id>.toml). Throws ExperimentFileError for a file that does not read (the
+// tests read every one, so a release never has one).
+const std::vector<PaperTable>& builtin_paper_tables();
+
+// The compiled-in table with this id, or nullptr.
+const PaperTable* find_builtin_paper_table(std::string_view id);
 
 }  // namespace hyfal

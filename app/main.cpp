@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "app/experiment_file.hpp"
 #include "app/merge.hpp"
 #include "app/plan.hpp"
 #include "app/reproduce.hpp"
@@ -37,17 +38,6 @@ namespace {
 
 // A bad input: reported as one line, exit code 2.
 using cli::UsageError;
-
-std::string read_file(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("'{}' is a directory, not a file", path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
-  return ss.str();
-}
 
 void write_output(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
@@ -105,9 +95,9 @@ int cmd_list(bool markdown) {
     for (const auto& o : m.options) print_setting(o);
   }
   fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|paper)\n");
-  const auto tables = cli::all_tables();
+  const auto& tables = builtin_paper_tables();
   if (tables.empty()) fmt::print("  (none)\n");
-  for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.table->id, t.table->title, t.suite->name);
+  for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.id, t.title, t.suite);
   return 0;
 }
 
@@ -239,7 +229,7 @@ int cmd_validate(const std::string& file) {
   };
   Witness w;
   try {
-    w = witness_from_text(read_file(file));
+    w = witness_from_text(cli::read_input_file(file));
   } catch (const WitnessError& e) {
     throw UsageError(one_line(fmt::format("'{}': {}", file, e.what())));
   }
@@ -407,7 +397,7 @@ int run_command(int argc, char** argv) {
   cli::ReproduceArgs pa;
   auto* reproduce = app.add_subcommand(
       "reproduce", "run a paper table's rows (resuming) and write <out-dir>/ID.md and .csv beside the paper's numbers");
-  reproduce->add_option("id", pa.id, "table id (see 'hyfal list')")->required();
+  reproduce->add_option("id", pa.id, "table id (see 'hyfal list') or the path of a table file (.toml)")->required();
   reproduce->footer("Runs on a cluster like `run` does: `mpirun -n K hyfal reproduce ID --profile P` (see `hyfal run --help`).");
   reproduce->add_option("--profile", pa.profile, "smoke (seconds), quick (minutes) or paper (the paper's set-up)")
       ->required()
@@ -483,6 +473,9 @@ int run_command(int argc, char** argv) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;
   } catch (const OptionError& e) {
+    fmt::print(stderr, "hyfal: error: {}\n", e.what());
+    return 2;
+  } catch (const ExperimentFileError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;
   } catch (const StoreError& e) {

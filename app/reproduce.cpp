@@ -15,11 +15,13 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <thread>
 #include <utility>
 
 #include <fmt/format.h>
 
+#include "app/experiment_file.hpp"
 #include "app/plan.hpp"
 #include "core/options.hpp"
 #include "core/rng.hpp"
@@ -279,11 +281,23 @@ JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const Eng
   return result;
 }
 
-std::vector<TableRef> all_tables() {
-  std::vector<TableRef> refs;
-  for (const SuiteEntry& s : all_suites())
-    for (const PaperTable& t : s.tables) refs.push_back({&s, &t});
-  return refs;
+std::string read_input_file(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("'{}' is a directory, not a file", path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
+  return ss.str();
+}
+
+PaperTable find_table(const std::string& id_or_path) {
+  const bool is_path = id_or_path.find('/') != std::string::npos ||
+                       (id_or_path.size() >= 5 && id_or_path.compare(id_or_path.size() - 5, 5, ".toml") == 0);
+  if (is_path) return load_paper_table(read_input_file(id_or_path), id_or_path);
+  if (const PaperTable* t = find_builtin_paper_table(id_or_path)) return *t;
+  throw UsageError(fmt::format("unknown table '{}' (see 'hyfal list'; a table file's path ends in .toml)", id_or_path));
 }
 
 // --- reproduce --------------------------------------------------------------------------------
@@ -448,19 +462,10 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
 
 int cmd_reproduce(const ReproduceArgs& a) {
   // Everything is checked before the database is opened, so a bad input writes nothing.
-  const SuiteEntry* suite = nullptr;
-  const PaperTable* table = nullptr;
-  for (const TableRef& ref : all_tables())
-    if (ref.table->id == a.id) {
-      suite = ref.suite;
-      table = ref.table;
-      break;
-    }
-  if (!table) throw UsageError(fmt::format("unknown table '{}' (see 'hyfal list')", a.id));
-  if (!table->suite.empty() && table->suite != suite->name) {
-    suite = find_suite(table->suite);
-    if (!suite) throw UsageError(fmt::format("table '{}': unknown suite '{}'", table->id, table->suite));
-  }
+  const PaperTable loaded = find_table(a.id);
+  const PaperTable* table = &loaded;
+  const SuiteEntry* suite = find_suite(table->suite);
+  if (!suite) throw UsageError(fmt::format("table '{}': unknown suite '{}'", table->id, table->suite));
   const TableProfile& profile = profile_of(*table, a.profile);
   if (profile.trials < 1 || !(profile.timeout_s > 0.0) || profile.max_nodes < 1)
     throw UsageError(fmt::format("table '{}' profile '{}': trials, timeout and max_nodes must be positive",

@@ -125,11 +125,12 @@ struct ReproduceArgs {
 // OUT/ID.csv and prints the Markdown. Returns 1 if a trial ended in an error, else 0.
 int cmd_reproduce(const ReproduceArgs& args);
 
-// Every table of every suite, with its suite.
-struct TableRef {
-  const SuiteEntry* suite;
-  const PaperTable* table;
-};
-std::vector<TableRef> all_tables();
+// The text of an input file; throws UsageError naming the file if it cannot be read.
+std::string read_input_file(const std::string& path);
+
+// The table `hyfal reproduce` names: the path of a table file (anything ending in ".toml" or
+// holding a '/'), or the id of a compiled-in table (experiments/paper/<id>.toml). Throws
+// UsageError for an unknown id or an unreadable file, ExperimentFileError for a bad file.
+PaperTable find_table(const std::string& id_or_path);
 
 }  // namespace hyfal::cli

@@ -103,6 +103,22 @@ TEST(PaperTableFiles, EveryTableFileEqualsTheSuitesTable) {
   EXPECT_EQ(files, compared) << "one file per table";
 }
 
+// The binary reads its tables from the files compiled in: they are the committed files, byte for
+// byte (a stale build would otherwise reproduce an old table), one per table id.
+TEST(PaperTableFiles, CompiledInFilesAreTheCommittedFiles) {
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(kPaperDir)) files += e.path().extension() == ".toml";
+  ASSERT_EQ(embedded_paper_table_files().size(), files);
+  for (const EmbeddedFile& f : embedded_paper_table_files())
+    EXPECT_EQ(f.text, read_text(fs::path(HYFAL_SOURCE_DIR) / f.path)) << f.path;
+  ASSERT_EQ(builtin_paper_tables().size(), files);
+  for (const PaperTable& t : builtin_paper_tables()) {
+    EXPECT_EQ(find_builtin_paper_table(t.id), &t);
+    EXPECT_TRUE(fs::exists(kPaperDir / (t.id + ".toml"))) << t.id;
+  }
+  EXPECT_EQ(find_builtin_paper_table("no-such-table"), nullptr);
+}
+
 // --- bad files -------------------------------------------------------------------------------
 
 const char* const kGood = R"(id = "tiny"
