@@ -1,0 +1,143 @@
+// Tables and experiments as TOML files, end to end through the binary: `hyfal reproduce` of a
+// table file given by its path, `hyfal run` of an experiment file, and bad files refused with
+// exit 2, one line naming the file, the line and the key, and nothing written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+
+#ifndef HYFAL_SOURCE_DIR
+#error "HYFAL_SOURCE_DIR (the source tree, for experiments/) must be defined"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hyfal_cli_test;
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+class ExperimentCliTest : public HyfalBinaryTest {
+ protected:
+  ExperimentCliTest() : HyfalBinaryTest("experiment") {}
+};
+
+// Every file and folder under root, with the content of the files.
+std::map<std::string, std::string> snapshot(const fs::path& root) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::recursive_directory_iterator(root))
+    m[fs::relative(e.path(), root).string()] = e.is_directory() ? "<dir>" : read_text(e.path());
+  return m;
+}
+
+const char* const kTable = R"(# A two-row table of our own: a new table is one file.
+id = "my-table"
+title = "RRT vs enhanced RRT on the thermostat"
+source = "ours"
+suite = "thermostat"
+columns = [{ name = "nodes", metric = "nodes" }, { name = "falsified", metric = "falsified_rate" }]
+
+[[rows]]
+label = "RRT"
+method = "rrt"
+paper = ["N/A", 1.0]
+
+[[rows]]
+label = "Enhanced"
+method = "enhanced-rrt"
+settings = { selection = "t2go" }
+paper = ["N/A", 1]
+
+[profile.smoke]
+trials = 2
+timeout_s = 20.0
+max_nodes = 20_000
+[profile.quick]
+trials = 3
+timeout_s = 20.0
+max_nodes = 20_000
+[profile.paper]
+trials = 10
+timeout_s = 60.0
+max_nodes = 1_000_000
+)";
+
+TEST_F(ExperimentCliTest, ReproduceReadsATableFileGivenByItsPath) {
+  write_text(work() / "tables" / "my-table.toml", kTable);
+  const Result r = hyfal({"reproduce", "tables/my-table.toml", "--profile", "smoke", "--threads", "2", "--db",
+                          "db.sqlite", "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "# my-table: RRT vs enhanced RRT on the thermostat")) << r;
+  EXPECT_TRUE(fs::exists(work() / "out" / "my-table.md"));
+  EXPECT_TRUE(fs::exists(work() / "out" / "my-table.csv"));
+  const SqlResult rows = sql(work() / "db.sqlite", "SELECT experiment, method, count(*) FROM trials GROUP BY 1, 2 ORDER BY 2");
+  ASSERT_TRUE(rows.ok) << rows.text;
+  EXPECT_EQ(rows.text, "my-table/smoke|enhanced-rrt|2\nmy-table/smoke|rrt|2\n");
+}
+
+// `hyfal list` shows the tables compiled in: one per committed file, wherever it runs.
+TEST_F(ExperimentCliTest, ListShowsEveryCommittedTableFile) {
+  const Result r = hyfal({"list"});
+  ASSERT_EQ(r.code, 0) << r;
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(HYFAL_SOURCE_DIR) / "experiments" / "paper")) {
+    if (e.path().extension() != ".toml") continue;
+    ++files;
+    EXPECT_TRUE(contains(r.out, "  " + e.path().stem().string() + " ")) << e.path() << "\n" << r.out;
+  }
+  EXPECT_EQ(files, 8u);
+}
+
+struct BadFileCase {
+  std::string name;
+  std::string from, to;      // the edit of kTable
+  std::string where, key;    // the message names "FILE:LINE:" and the key
+};
+
+class BadTableFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
+
+TEST_P(BadTableFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
+  const BadFileCase& c = GetParam();
+  std::string text = kTable;
+  const auto at = text.find(c.from);
+  ASSERT_NE(at, std::string::npos) << c.from;
+  text.replace(at, c.from.size(), c.to);
+  write_text(work() / "bad.toml", text);
+  const auto before = snapshot(work());
+  const Result r = hyfal({"reproduce", "bad.toml", "--profile", "smoke", "--db", "out/db.sqlite", "--witness-dir",
+                          "out/wit", "--out-dir", "out/tables"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_EQ(r.err.rfind("hyfal: error: bad.toml:" + c.where, 0), 0u) << r;
+  if (!c.key.empty()) {
+    EXPECT_TRUE(contains(r.err, ": " + c.key + ": ")) << r;
+  }
+  EXPECT_EQ(r.out, "") << r;
+  EXPECT_EQ(snapshot(work()), before) << "a bad file writes nothing\n" << r;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ExperimentCli, BadTableFile,
+    ::testing::Values(BadFileCase{"SyntaxError", "label = \"RRT\"", "label = RRT", "9:", ""},
+                      BadFileCase{"UnknownKey", "method = \"rrt\"", "method = \"rrt\"\nsetings = {}", "11:", "rows[0].setings"},
+                      BadFileCase{"WrongType", "trials = 2", "trials = 2.5", "20:", "profile.smoke.trials"},
+                      BadFileCase{"BadMethodName", "method = \"rrt\"", "method = \"rtt\"", "10:", "rows[0].method"},
+                      BadFileCase{"BadSettingValue", "selection = \"t2go\"", "selection = \"fastest\"", "16:",
+                                  "rows[1].settings.selection"}),
+    [](const ::testing::TestParamInfo<BadFileCase>& info) { return info.param.name; });
+
+TEST_F(ExperimentCliTest, MissingTableFileAndUnknownIdExitTwo) {
+  for (const Args& args : {Args{"reproduce", "nowhere/table.toml", "--profile", "smoke"},
+                           Args{"reproduce", "no-such-table", "--profile", "smoke"}}) {
+    const Result r = hyfal(args);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  }
+  EXPECT_TRUE(fs::is_empty(work()));
+}
+
+}  // namespace
