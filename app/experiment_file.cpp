@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "app/runner.hpp"
 #include "core/options.hpp"
 #include "core/planner.hpp"
 #include "suites/registry.hpp"
@@ -180,11 +181,25 @@ struct SettingScope {
     return nullptr;
   }
   std::string owners() const {
-    std::string s = fmt::format("suite '{}'", suite->name);
-    for (const MethodEntry* m : methods) s += fmt::format(", method '{}'", m->name);
+    std::string s = suite->name.empty() ? "" : fmt::format("suite '{}'", suite->name);
+    for (const MethodEntry* m : methods) s += fmt::format("{}method '{}'", s.empty() ? "" : ", ", m->name);
     return s;
   }
 };
+
+// A setting's value of its declared type and in its declared range.
+void check_setting_value(const TomlReader& r, const OptionSpec& spec, const std::string& text, const toml::node& value,
+                         const std::string& where) {
+  try {
+    (void)parse_setting(spec, text);
+  } catch (const OptionError& e) {
+    // Its "--set key=text: " prefix names what the message already names.
+    std::string_view why = e.what();
+    if (const auto colon = why.find(": "); why.rfind("--set ", 0) == 0 && colon != std::string_view::npos)
+      why.remove_prefix(colon + 2);
+    r.fail(value, where, why);
+  }
+}
 
 // A settings table: each key declared by the scope, each value of its type and in its range.
 Settings read_settings(const TomlReader& r, const toml::node& node, const std::string& path, const SettingScope& scope) {
@@ -194,18 +209,39 @@ Settings read_settings(const TomlReader& r, const toml::node& node, const std::s
     const OptionSpec* spec = scope.find(std::string(key->str()));
     if (!spec) r.fail(key->source(), where, fmt::format("no such setting of {} (see 'hyfal list')", scope.owners()));
     std::string text = r.setting_text(*value, where);
-    try {
-      (void)parse_setting(*spec, text);
-    } catch (const OptionError& e) {
-      // Its "--set key=text: " prefix names what the message already names.
-      std::string_view why = e.what();
-      if (const auto colon = why.find(": "); why.rfind("--set ", 0) == 0 && colon != std::string_view::npos)
-        why.remove_prefix(colon + 2);
-      r.fail(*value, where, why);
-    }
+    check_setting_value(r, *spec, text, *value, where);
     settings.emplace_back(std::string(key->str()), std::move(text));
   }
   return settings;
+}
+
+// A settings table of an experiment: each value, or each element of a list of values (a grid
+// axis), checked as read_settings checks one.
+std::vector<std::pair<std::string, std::vector<std::string>>> read_grid_settings(const TomlReader& r,
+                                                                                const toml::node& node,
+                                                                                const std::string& path,
+                                                                                const SettingScope& scope) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> axes;
+  for (const auto& [key, value] : TomlReader::in_file_order(r.table(node, path))) {
+    const std::string where = TomlReader::join(path, key->str());
+    const OptionSpec* spec = scope.find(std::string(key->str()));
+    if (!spec) r.fail(key->source(), where, fmt::format("no such setting of {} (see 'hyfal list')", scope.owners()));
+    std::vector<std::pair<const toml::node*, std::string>> values;  // each with its place in messages
+    if (const auto* list = value->as_array()) {
+      if (list->empty()) r.fail(*value, where, "an empty list has no value to run");
+      for (std::size_t i = 0; i < list->size(); ++i) values.emplace_back(&(*list)[i], TomlReader::index(where, i));
+    } else {
+      values.emplace_back(value, where);
+    }
+    std::vector<std::string> texts;
+    for (const auto& [v, at] : values) {
+      std::string text = r.setting_text(*v, at);
+      check_setting_value(r, *spec, text, *v, at);
+      texts.push_back(std::move(text));
+    }
+    axes.emplace_back(std::string(key->str()), std::move(texts));
+  }
+  return axes;
 }
 
 // A paper value: a number, "N/A" (not reported) or "X" (the paper's timeout).
@@ -239,8 +275,7 @@ TableMetric read_metric(const TomlReader& r, const toml::node& node, const std::
   r.fail(node, key, fmt::format("unknown metric '{}' (nodes, time_s, coverage, falsified_rate)", name));
 }
 
-// Limits of a run's sizes (as `hyfal run` checks its flags).
-constexpr std::int64_t kMaxTrials = 1'000'000;
+using cli::kMaxTrials;  // the limit `hyfal run --trials` has
 
 TableProfile read_profile(const TomlReader& r, const toml::table& t, const std::string& path, const SettingScope& scope,
                           bool sweep, std::size_t sweep_columns) {
@@ -400,6 +435,187 @@ PaperTable load_paper_table(std::string_view text, const std::string& file_name)
                             t.sweep.has_value(), sweep_columns);
   }
   return t;
+}
+
+namespace {
+
+using GridAxes = std::vector<std::pair<std::string, std::vector<std::string>>>;
+
+// Every combination of the axes' values, in order, the last axis varying fastest.
+std::vector<Settings> expand_grid(const GridAxes& axes) {
+  std::vector<Settings> points{{}};
+  for (const auto& [key, values] : axes) {
+    std::vector<Settings> next;
+    for (const Settings& p : points)
+      for (const std::string& v : values) {
+        next.push_back(p);
+        next.back().emplace_back(key, v);
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+GroupMeasure read_measure(const TomlReader& r, const toml::node& node, const std::string& key) {
+  const std::string name = r.string(node, key);
+  for (const GroupMeasure m : {GroupMeasure::falsified_rate, GroupMeasure::time_mean_s, GroupMeasure::time_median_s,
+                               GroupMeasure::nodes_mean, GroupMeasure::nodes_median})
+    if (to_string(m) == name) return m;
+  r.fail(node, key,
+         fmt::format("unknown value '{}' (falsified_rate, time_mean_s, time_median_s, nodes_mean, nodes_median)", name));
+}
+
+}  // namespace
+
+ExperimentFile load_experiment_file(std::string_view text, const std::string& file_name) {
+  const TomlReader r(text, file_name);
+  const toml::table& root = r.root();
+  r.check_keys(root, "", {"name", "trials", "timeout_s", "max_nodes", "seed", "suites", "methods", "table"});
+  ExperimentFile e;
+  const toml::node& name_node = r.require(root, "", "name");
+  e.name = r.string(name_node, "name");
+  try {
+    cli::check_experiment_name(e.name);
+  } catch (const cli::UsageError& error) {
+    r.fail(name_node, "name", error.what());
+  }
+  e.trials = static_cast<int>(r.integer(r.require(root, "", "trials"), "trials", 1, kMaxTrials));
+  const toml::node& timeout = r.require(root, "", "timeout_s");
+  e.timeout_s = r.number(timeout, "timeout_s");
+  if (!(e.timeout_s > 0.0)) r.fail(timeout, "timeout_s", "must be positive");
+  e.max_nodes = r.integer(r.require(root, "", "max_nodes"), "max_nodes", 1, INT64_MAX);
+  if (const auto* s = r.find(root, "seed")) e.seed = static_cast<std::uint64_t>(r.integer(*s, "seed", 0, INT64_MAX));
+
+  // Suites and their instance grids.
+  struct SuitePoint {
+    const SuiteEntry* suite;
+    Settings settings;
+  };
+  std::vector<SuitePoint> instances;
+  std::vector<std::string> setting_keys;  // every setting key of the file: possible dimensions
+  const auto note_keys = [&](const GridAxes& axes) {
+    for (const auto& [key, values] : axes)
+      if (std::find(setting_keys.begin(), setting_keys.end(), key) == setting_keys.end()) setting_keys.push_back(key);
+  };
+  const toml::array& suites = r.array(r.require(root, "", "suites"), "suites");
+  if (suites.empty()) r.fail(suites, "suites", "an experiment needs at least one suite");
+  for (std::size_t i = 0; i < suites.size(); ++i) {
+    const std::string at = TomlReader::index("suites", i);
+    const toml::table& t = r.table(suites[i], at);
+    r.check_keys(t, at, {"name", "settings"});
+    const toml::node& n = r.require(t, at, "name");
+    const SuiteEntry* suite = find_suite(r.string(n, TomlReader::join(at, "name")));
+    if (!suite) r.fail(n, TomlReader::join(at, "name"), fmt::format("unknown suite '{}' (see 'hyfal list')", r.string(n, at)));
+    GridAxes axes;
+    if (const auto* s = r.find(t, "settings"))
+      axes = read_grid_settings(r, *s, TomlReader::join(at, "settings"), SettingScope{suite, {}});
+    note_keys(axes);
+    for (Settings& point : expand_grid(axes)) instances.push_back({suite, std::move(point)});
+  }
+
+  // Methods and their option grids.
+  struct MethodPoint {
+    const MethodEntry* method;
+    std::string label;
+    Settings options;
+  };
+  std::vector<MethodPoint> variants;
+  const toml::array& methods = r.array(r.require(root, "", "methods"), "methods");
+  if (methods.empty()) r.fail(methods, "methods", "an experiment needs at least one method");
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const std::string at = TomlReader::index("methods", i);
+    const toml::table& t = r.table(methods[i], at);
+    r.check_keys(t, at, {"name", "label", "options"});
+    const toml::node& n = r.require(t, at, "name");
+    const std::string method_name = r.string(n, TomlReader::join(at, "name"));
+    const MethodEntry* method = find_method(method_name);
+    if (!method) r.fail(n, TomlReader::join(at, "name"), fmt::format("unknown method '{}' (see 'hyfal list')", method_name));
+    std::string label = method->name;
+    if (const auto* l = r.find(t, "label")) label = r.string(*l, TomlReader::join(at, "label"));
+    GridAxes axes;
+    if (const auto* o = r.find(t, "options")) {
+      // Options only: a suite setting belongs to the suite's entry, where it is one instance for
+      // every method.
+      static const SuiteEntry kNoParameters{};
+      axes = read_grid_settings(r, *o, TomlReader::join(at, "options"), SettingScope{&kNoParameters, {method}});
+    }
+    note_keys(axes);
+    for (Settings& point : expand_grid(axes)) variants.push_back({method, label, std::move(point)});
+  }
+
+  // The layout: which dimensions form blocks, rows and columns.
+  std::vector<std::string> dimensions = {"suite", "method"};
+  dimensions.insert(dimensions.end(), setting_keys.begin(), setting_keys.end());
+  bool rows_given = false, columns_given = false;
+  if (const auto* t = r.find(root, "table")) {
+    const toml::table& table = r.table(*t, "table");
+    r.check_keys(table, "table", {"rows", "columns", "blocks", "value"});
+    std::vector<std::string> placed;
+    for (auto [key, list] : {std::pair{"blocks", &e.blocks}, std::pair{"rows", &e.rows}, std::pair{"columns", &e.columns}}) {
+      const toml::node* node = r.find(table, key);
+      if (!node) continue;
+      const std::string at = TomlReader::join("table", key);
+      *list = r.strings(*node, at);
+      rows_given = rows_given || std::string_view(key) == "rows";
+      columns_given = columns_given || std::string_view(key) == "columns";
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        const std::string& d = (*list)[i];
+        const toml::node& element = (*node->as_array())[i];
+        if (std::find(dimensions.begin(), dimensions.end(), d) == dimensions.end()) {
+          std::string known;
+          for (const auto& k : dimensions) known += (known.empty() ? "" : ", ") + k;
+          r.fail(element, TomlReader::index(at, i), fmt::format("'{}' is not a dimension of this experiment ({})", d, known));
+        }
+        if (std::find(placed.begin(), placed.end(), d) != placed.end())
+          r.fail(element, TomlReader::index(at, i), fmt::format("'{}' is placed twice", d));
+        placed.push_back(d);
+      }
+    }
+    if (const auto* v = r.find(table, "value")) e.value = read_measure(r, *v, "table.value");
+  }
+  const auto placed = [&](const std::string& d) {
+    for (const auto* list : {&e.blocks, &e.rows, &e.columns})
+      if (std::find(list->begin(), list->end(), d) != list->end()) return true;
+    return false;
+  };
+  // Defaults: methods down, suites across.
+  if (!rows_given && !placed("method")) e.rows.push_back("method");
+  if (!columns_given && !placed("suite")) e.columns.push_back("suite");
+
+  for (const SuitePoint& instance : instances)
+    for (const MethodPoint& variant : variants) {
+      ExperimentGroup g;
+      g.suite = instance.suite;
+      g.method = variant.method;
+      g.method_label = variant.label;
+      g.settings = instance.settings;
+      g.settings.insert(g.settings.end(), variant.options.begin(), variant.options.end());
+      e.groups.push_back(std::move(g));
+    }
+
+  // A dimension's value in a group: a setting the group does not set reads "default".
+  const auto value_of = [](const ExperimentGroup& g, const std::string& d) -> std::string {
+    if (d == "suite") return g.suite->name;
+    if (d == "method") return g.method_label;
+    for (const auto& [k, v] : g.settings)
+      if (k == d) return k + "=" + v;
+    return d + "=default";
+  };
+  // A dimension that varies but is not placed would put several groups in one cell: it joins the rows.
+  for (const std::string& d : dimensions)
+    if (!placed(d))
+      for (const ExperimentGroup& g : e.groups)
+        if (value_of(g, d) != value_of(e.groups.front(), d)) {
+          e.rows.push_back(d);
+          break;
+        }
+  const auto label = [&](const ExperimentGroup& g, const std::vector<std::string>& dims) {
+    std::string s;
+    for (const std::string& d : dims) s += (s.empty() ? "" : ", ") + value_of(g, d);
+    return s;
+  };
+  for (ExperimentGroup& g : e.groups) g.place = {label(g, e.blocks), label(g, e.rows), label(g, e.columns)};
+  return e;
 }
 
 const std::vector<PaperTable>& builtin_paper_tables() {

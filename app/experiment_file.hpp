@@ -1,7 +1,9 @@
-// Paper tables as TOML files (experiments/paper/<id>.toml): what `hyfal reproduce` runs. The
-// format is documented in the README ("Tables and experiments as TOML files"); a new table is one
-// such file, no C++.
+// Paper tables (experiments/paper/<id>.toml, what `hyfal reproduce` runs) and experiments
+// (experiments/NAME.toml, what `hyfal run FILE` runs) as TOML files. The formats are documented
+// in the README ("Tables and experiments as TOML files"); a new table or experiment is one such
+// file, no C++.
 #pragma once
+#include <cstdint>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -9,6 +11,8 @@
 #include <vector>
 
 #include "core/paper_table.hpp"
+#include "core/suite.hpp"
+#include "results/table_writer.hpp"
 
 namespace hyfal {
 
@@ -45,5 +49,35 @@ const std::vector<PaperTable>& builtin_paper_tables();
 
 // The compiled-in table with this id, or nullptr.
 const PaperTable* find_builtin_paper_table(std::string_view id);
+
+// One trial group of an experiment: a suite instance and a method with its options, where it sits
+// in the experiment's table.
+struct ExperimentGroup {
+  const SuiteEntry* suite = nullptr;
+  const MethodEntry* method = nullptr;
+  std::string method_label;  // the method entry's label (its name unless the file gives one)
+  Settings settings;         // the suite's settings, then the method's options
+  GroupPlace place;          // block, row and column labels
+};
+
+// An experiment file: suites with instance settings and methods with options, where a list of
+// values expands to a grid (every combination, in file order, the last key varying fastest); every
+// method runs on every suite instance with the same trials, caps and seed. The table lays the
+// groups out by dimensions: "suite", "method" (the entry's label) and any setting key.
+struct ExperimentFile {
+  std::string name;  // the experiment: its key in the database, witness folder and table files
+  int trials = 10;
+  double timeout_s = 60.0;
+  std::int64_t max_nodes = 1'000'000;
+  std::uint64_t seed = 1;
+  std::vector<std::string> rows, columns, blocks;  // dimensions; a varying one not placed joins rows
+  GroupMeasure value = GroupMeasure::time_median_s;
+  std::vector<ExperimentGroup> groups;  // suites x their grid x methods x their grid
+};
+
+// Reads an experiment file; checks everything load_paper_table checks of the same keys (syntax,
+// keys, types, registry names, setting keys and values), the experiment name (as --experiment)
+// and the layout. Throws ExperimentFileError.
+ExperimentFile load_experiment_file(std::string_view text, const std::string& file_name);
 
 }  // namespace hyfal

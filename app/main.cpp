@@ -17,6 +17,7 @@
 #include "app/merge.hpp"
 #include "app/plan.hpp"
 #include "app/reproduce.hpp"
+#include "app/runner.hpp"
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
@@ -136,21 +137,17 @@ int cmd_run(const RunArgs& a) {
   spec.seed = a.seed;
   const cli::TrialGroup group = cli::resolve_trial_group(spec);
 
-  if (a.plan) return cli::print_plan(fmt::format("{} on {}", method->name, suite->name), {&group}, shard, a.db);
-
-  TrialStore store = TrialStore::open(a.db);
-  const std::vector<TrialJob> jobs = cli::prepare_jobs(group, store.stored_trial_indices(group.base), shard);
-  const auto in_shard = static_cast<std::size_t>(shard.count_in(0, a.trials));
-  if (!a.quiet && jobs.size() < in_shard)
-    fmt::print(stderr, "[hyfal] resuming: {} of {} trials{} already stored in {}\n", in_shard - jobs.size(), in_shard,
-               shard.whole() ? "" : " of shard " + shard.text(), a.db);
-
-  const EngineOptions eo = cli::make_engine_options(a.threads, a.witness_dir, !a.quiet && isatty(STDERR_FILENO));
-  const cli::JobsRun jobs_run = cli::run_jobs(jobs, store, eo);
-
-  std::vector<TrialRecord> rows;
-  for (auto& r : store.load(a.experiment))
-    if (group.contains(r)) rows.push_back(std::move(r));
+  cli::RunOptions options;
+  options.threads = a.threads;
+  options.db = a.db;
+  options.witness_dir = a.witness_dir;
+  options.shard = shard;
+  options.plan = a.plan;
+  options.progress = !a.quiet && isatty(STDERR_FILENO);
+  options.quiet = a.quiet;
+  const auto run = cli::run_groups(fmt::format("{} on {}", method->name, suite->name), {&group}, options);
+  if (!run) return 0;  // --plan
+  const std::vector<TrialRecord>& rows = run->trials[0];
   const auto groups = summarize_trials(rows);
   std::cout << (a.format == "csv" ? to_csv(groups) : to_markdown(groups));
   if (!a.quiet) {
@@ -158,11 +155,11 @@ int cmd_run(const RunArgs& a) {
     for (const auto& r : rows) validated += r.validated;
     const Cluster* cluster = Cluster::current();
     fmt::print("\n{} trials ({} run now), {} witnesses validated; {}threads {}; database {}; witnesses under {}\n",
-               rows.size(), jobs_run.run_now, validated, cluster ? fmt::format("{} MPI ranks x ", cluster->size()) : "",
+               rows.size(), run->run_now, validated, cluster ? fmt::format("{} MPI ranks x ", cluster->size()) : "",
                a.threads > 0 ? a.threads : default_thread_count(), a.db,
                a.witness_dir);
   }
-  return jobs_run.errors ? 1 : 0;
+  return run->errors ? 1 : 0;
 }
 
 // --- table ------------------------------------------------------------------------------------

@@ -98,6 +98,8 @@ struct BadFileCase {
   std::string where, key;    // the message names "FILE:LINE:" and the key
 };
 
+void PrintTo(const BadFileCase& c, std::ostream* os) { *os << c.name; }
+
 class BadTableFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
 
 TEST_P(BadTableFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {

@@ -210,6 +210,8 @@ std::vector<BadFile> bad_files() {
   };
 }
 
+void PrintTo(const BadFile& c, std::ostream* os) { *os << c.name; }
+
 class BadPaperTableFile : public ::testing::TestWithParam<BadFile> {};
 
 TEST_P(BadPaperTableFile, IsRefusedWithOneLineNamingFileLineAndKey) {
