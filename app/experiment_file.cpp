@@ -493,9 +493,12 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
   };
   std::vector<SuitePoint> instances;
   std::vector<std::string> setting_keys;  // every setting key of the file: possible dimensions
-  const auto note_keys = [&](const GridAxes& axes) {
+  // A key given as a list somewhere is a grid axis, and so a dimension of the table.
+  const auto note_keys = [&](const toml::node& settings, const GridAxes& axes) {
     for (const auto& [key, values] : axes)
-      if (std::find(setting_keys.begin(), setting_keys.end(), key) == setting_keys.end()) setting_keys.push_back(key);
+      if (settings.as_table()->get(key)->is_array() &&
+          std::find(setting_keys.begin(), setting_keys.end(), key) == setting_keys.end())
+        setting_keys.push_back(key);
   };
   const toml::array& suites = r.array(r.require(root, "", "suites"), "suites");
   if (suites.empty()) r.fail(suites, "suites", "an experiment needs at least one suite");
@@ -507,9 +510,10 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
     const SuiteEntry* suite = find_suite(r.string(n, TomlReader::join(at, "name")));
     if (!suite) r.fail(n, TomlReader::join(at, "name"), fmt::format("unknown suite '{}' (see 'hyfal list')", r.string(n, at)));
     GridAxes axes;
-    if (const auto* s = r.find(t, "settings"))
+    if (const auto* s = r.find(t, "settings")) {
       axes = read_grid_settings(r, *s, TomlReader::join(at, "settings"), SettingScope{suite, {}});
-    note_keys(axes);
+      note_keys(*s, axes);
+    }
     for (Settings& point : expand_grid(axes)) instances.push_back({suite, std::move(point)});
   }
 
@@ -538,8 +542,8 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
       // every method.
       static const SuiteEntry kNoParameters{};
       axes = read_grid_settings(r, *o, TomlReader::join(at, "options"), SettingScope{&kNoParameters, {method}});
+      note_keys(*o, axes);
     }
-    note_keys(axes);
     for (Settings& point : expand_grid(axes)) variants.push_back({method, label, std::move(point)});
   }
 

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "app/experiment.hpp"
 #include "app/experiment_file.hpp"
 #include "app/merge.hpp"
 #include "app/plan.hpp"
@@ -359,7 +360,12 @@ int run_command(int argc, char** argv) {
       "On a cluster: `mpirun -n K hyfal run ...` runs the same trials on K processes: rank 0 hands them out\n"
       "and is the only one to write --db and --witness-dir; every rank runs --threads threads. Results equal\n"
       "those of one process, and a run stopped at one K resumes at any other (README: Running on a cluster).");
-  run->add_option("--suite", ra.suite, "suite name (see 'hyfal list')")->required();
+  cli::ExperimentArgs xa;
+  run->add_option("file", xa.file,
+                  "an experiment file (.toml): suites, methods, trials, caps, seed and table layout (README: "
+                  "\"Tables and experiments as TOML files\"); instead of --suite, --method, --set, --trials, "
+                  "--timeout, --max-nodes, --seed, --experiment and --format");
+  auto* run_suite = run->add_option("--suite", ra.suite, "suite name (see 'hyfal list'); required without a file");
   run->add_option("--method", ra.method, "method name")->capture_default_str();
   run->add_option("--set", ra.sets, "instance parameter or method option, key=value (repeatable)");
   run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1), at most 1000000")
@@ -383,6 +389,8 @@ int run_command(int argc, char** argv) {
   run->add_flag("--plan", ra.plan,
                 "print the number of trials, the caps and an upper bound of CPU-hours (and what --db still lacks), "
                 "run nothing and write nothing");
+  run->add_option("--out-dir", xa.out_dir, "with an experiment file: where NAME.md and NAME.csv are written")
+      ->capture_default_str();
 
   std::string tdb = "results/hyfal.sqlite", texp, tformat = "md", tout;
   auto* table = app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
@@ -460,7 +468,26 @@ int run_command(int argc, char** argv) {
   }
   try {
     if (*list) return cmd_list(list_markdown);
-    if (*run) return cmd_run(ra);
+    if (*run) {
+      if (xa.file.empty()) {
+        if (run_suite->count() == 0) throw UsageError("--suite is required (or an experiment file)");
+        if (run->get_option("--out-dir")->count() > 0) throw UsageError("--out-dir is for an experiment file");
+        return cmd_run(ra);
+      }
+      // The file states what the flags would: giving both would leave one of them unused.
+      for (const char* flag : {"--suite", "--method", "--set", "--trials", "--timeout", "--max-nodes", "--seed",
+                               "--experiment", "--format"})
+        if (run->get_option(flag)->count() > 0)
+          throw UsageError(fmt::format("{}: the experiment file '{}' states the run; give a file or flags, not both",
+                                       flag, xa.file));
+      xa.threads = ra.threads;
+      xa.db = ra.db;
+      xa.witness_dir = ra.witness_dir;
+      xa.shard = ra.shard;
+      xa.plan = ra.plan;
+      xa.quiet = ra.quiet;
+      return cli::cmd_run_experiment(xa);
+    }
     if (*table) return cmd_table(tdb, texp, tformat, tout);
     if (*validate) return cmd_validate(vfile);
     if (*instance_export) return cmd_instance_export(xsuite, xsets);

@@ -142,4 +142,112 @@ TEST_F(ExperimentCliTest, MissingTableFileAndUnknownIdExitTwo) {
   EXPECT_TRUE(fs::is_empty(work()));
 }
 
+// --- experiment files -------------------------------------------------------------------------
+
+const fs::path kExample = fs::path(HYFAL_SOURCE_DIR) / "experiments" / "example.toml";
+
+// The committed example runs end to end, stores its trials as `hyfal run` with flags would (same
+// keys: a flags run of one of its groups finds every trial stored) and resumes.
+TEST_F(ExperimentCliTest, ExampleExperimentRunsStoresAndResumes) {
+  fs::copy_file(kExample, work() / "example.toml");
+  const Args args = {"run", "example.toml", "--threads", "2", "--db", "db.sqlite", "--witness-dir", "wit", "--out-dir", "out"};
+  const Result r = hyfal(args);
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "# example")) << r;
+  EXPECT_TRUE(contains(r.out, "| nodes_mean | thermostat, step=0.1 | thermostat, step=0.2 | linear, step=default |")) << r;
+  EXPECT_TRUE(contains(r.err, "18 trials (18 run now)")) << r;
+  const std::string md = read_text(work() / "out" / "example.md"), csv = read_text(work() / "out" / "example.csv");
+  EXPECT_EQ(md, r.out);
+  EXPECT_EQ(lines(csv).size(), 1u + 6u) << csv;  // header + one line per group
+  EXPECT_EQ(csv.rfind("block,row,column,suite,", 0), 0u) << csv;
+  const SqlResult count = sql(work() / "db.sqlite", "SELECT experiment, count(*) FROM trials GROUP BY 1");
+  ASSERT_TRUE(count.ok) << count.text;
+  EXPECT_EQ(count.text, "example|18\n");
+
+  const Result again = hyfal(args);
+  ASSERT_EQ(again.code, 0) << again;
+  EXPECT_TRUE(contains(again.err, "resuming: 18 of 18 trials already stored")) << again;
+  EXPECT_TRUE(contains(again.err, "18 trials (0 run now)")) << again;
+  EXPECT_EQ(read_text(work() / "out" / "example.csv"), csv) << "the same trials give the same table";
+
+  const Result flags = hyfal({"run", "--suite", "thermostat", "--method", "enhanced-rrt", "--set", "step=0.2", "--set",
+                              "history=tree", "--trials", "3", "--timeout", "20", "--max-nodes", "5000", "--seed", "1",
+                              "--experiment", "example", "--db", "db.sqlite", "--witness-dir", "wit"});
+  ASSERT_EQ(flags.code, 0) << flags;
+  EXPECT_TRUE(contains(flags.out, "3 trials (0 run now)")) << flags;
+}
+
+TEST_F(ExperimentCliTest, ExperimentPlanRunsNothingAndWritesNothing) {
+  fs::copy_file(kExample, work() / "example.toml");
+  const auto before = snapshot(work());
+  const Result r = hyfal({"run", "example.toml", "--plan", "--db", "db.sqlite", "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "plan for experiment example")) << r;
+  EXPECT_TRUE(contains(r.out, "6 trial group(s), 18 trials")) << r;
+  EXPECT_EQ(snapshot(work()), before);
+}
+
+const char* const kExperiment = R"(name = "mine"
+trials = 2
+timeout_s = 10.0
+max_nodes = 2000
+
+[[suites]]
+name = "thermostat"
+settings = { step = [0.1, 0.2] }
+
+[[methods]]
+name = "rrt"
+
+[table]
+rows = ["method"]
+columns = ["step"]
+)";
+
+class BadExperimentFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
+
+TEST_P(BadExperimentFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
+  const BadFileCase& c = GetParam();
+  std::string text = kExperiment;
+  const auto at = text.find(c.from);
+  ASSERT_NE(at, std::string::npos) << c.from;
+  text.replace(at, c.from.size(), c.to);
+  write_text(work() / "bad.toml", text);
+  const auto before = snapshot(work());
+  const Result r = hyfal({"run", "bad.toml", "--db", "out/db.sqlite", "--witness-dir", "out/wit", "--out-dir", "out/tables"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_EQ(r.err.rfind("hyfal: error: bad.toml:" + c.where, 0), 0u) << r;
+  if (!c.key.empty()) {
+    EXPECT_TRUE(contains(r.err, ": " + c.key + ": ")) << r;
+  }
+  EXPECT_EQ(r.out, "") << r;
+  EXPECT_EQ(snapshot(work()), before) << "a bad file writes nothing\n" << r;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ExperimentCli, BadExperimentFile,
+    ::testing::Values(BadFileCase{"SyntaxError", "trials = 2", "trials = = 2", "2:", ""},
+                      BadFileCase{"UnknownKey", "max_nodes = 2000", "max_nodes = 2000\ntimout_s = 3", "5:", "timout_s"},
+                      BadFileCase{"WrongType", "timeout_s = 10.0", "timeout_s = \"ten\"", "3:", "timeout_s"},
+                      BadFileCase{"BadMethodName", "name = \"rrt\"", "name = \"rrt-star\"", "11:", "methods[0].name"},
+                      BadFileCase{"BadSettingInList", "step = [0.1, 0.2]", "step = [0.1, -2]", "8:",
+                                  "suites[0].settings.step[1]"},
+                      BadFileCase{"UnknownDimension", "columns = [\"step\"]", "columns = [\"stp\"]", "15:",
+                                  "table.columns[0]"},
+                      BadFileCase{"BadExperimentName", "name = \"mine\"", "name = \"../mine\"", "1:", "name"}),
+    [](const ::testing::TestParamInfo<BadFileCase>& info) { return info.param.name; });
+
+TEST_F(ExperimentCliTest, AFileAndRunFlagsTogetherExitTwo) {
+  write_text(work() / "mine.toml", kExperiment);
+  const auto before = snapshot(work());
+  for (const Args& args : {Args{"run", "mine.toml", "--trials", "5"}, Args{"run", "mine.toml", "--suite", "linear"},
+                           Args{"run", "--suite", "thermostat", "--out-dir", "x"}}) {
+    const Result r = hyfal(args);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  }
+  EXPECT_EQ(snapshot(work()), before);
+}
+
 }  // namespace

@@ -232,5 +232,61 @@ TEST_P(BadPaperTableFile, IsRefusedWithOneLineNamingFileLineAndKey) {
 INSTANTIATE_TEST_SUITE_P(PaperTableFiles, BadPaperTableFile, ::testing::ValuesIn(bad_files()),
                          [](const ::testing::TestParamInfo<BadFile>& info) { return info.param.name; });
 
+// --- experiment files -------------------------------------------------------------------------
+
+// Lists expand to a grid (last key fastest), every method variant runs on every instance, and the
+// layout names each group's block, row and column; a varying dimension left out joins the rows.
+TEST(ExperimentFiles, ListsExpandToAGridLaidOutByDimensions) {
+  const ExperimentFile e = load_experiment_file(R"(name = "grid"
+trials = 4
+timeout_s = 7
+max_nodes = 3000
+seed = 9
+[[suites]]
+name = "thermostat"
+settings = { input_levels = [3, 5], step = [0.1, 0.2], horizon = 50 }
+[[methods]]
+name = "rrt"
+[[methods]]
+name = "enhanced-rrt"
+label = "enh"
+options = { k = [5, 10] }
+[table]
+columns = ["step"]
+blocks = ["suite"]
+value = "falsified_rate"
+)",
+                                                "grid.toml");
+  EXPECT_EQ(e.name, "grid");
+  EXPECT_EQ(e.trials, 4);
+  EXPECT_EQ(e.timeout_s, 7.0);
+  EXPECT_EQ(e.max_nodes, 3000);
+  EXPECT_EQ(e.seed, 9u);
+  EXPECT_EQ(e.value, GroupMeasure::falsified_rate);
+  ASSERT_EQ(e.groups.size(), 4u * 3u);  // 2 x 2 instances, 1 + 2 method variants
+  EXPECT_EQ(e.groups[0].settings, (Settings{{"input_levels", "3"}, {"step", "0.1"}, {"horizon", "50"}}));
+  EXPECT_EQ(e.groups[2].settings,
+            (Settings{{"input_levels", "3"}, {"step", "0.1"}, {"horizon", "50"}, {"k", "10"}}));
+  EXPECT_EQ(e.groups[3].settings, (Settings{{"input_levels", "3"}, {"step", "0.2"}, {"horizon", "50"}}));
+  EXPECT_EQ(e.groups[2].method_label, "enh");
+  EXPECT_EQ(e.groups[2].method->name, "enhanced-rrt");
+  // rows: method by default, then the varying dimensions left out (input_levels, k); horizon does
+  // not vary (one value), so it is no dimension.
+  EXPECT_EQ(e.rows, (std::vector<std::string>{"method", "input_levels", "k"}));
+  EXPECT_EQ(e.columns, (std::vector<std::string>{"step"}));
+  EXPECT_EQ(e.blocks, (std::vector<std::string>{"suite"}));
+  EXPECT_EQ(e.groups[2].place.block, "thermostat");
+  EXPECT_EQ(e.groups[2].place.row, "enh, input_levels=3, k=10");
+  EXPECT_EQ(e.groups[2].place.column, "step=0.1");
+  EXPECT_EQ(e.groups[0].place.row, "rrt, input_levels=3, k=default");
+}
+
+TEST(ExperimentFiles, TheCommittedExampleReads) {
+  const fs::path file = fs::path(HYFAL_SOURCE_DIR) / "experiments" / "example.toml";
+  const ExperimentFile e = load_experiment_file(read_text(file), file.string());
+  EXPECT_EQ(e.name, "example");
+  EXPECT_EQ(e.groups.size(), 6u);
+}
+
 }  // namespace
 }  // namespace hyfal
