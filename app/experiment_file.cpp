@@ -504,12 +504,13 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
   if (suites.empty()) r.fail(suites, "suites", "an experiment needs at least one suite");
   // A bound on the groups, so that a typo in a list cannot ask for an absurd grid.
   constexpr std::size_t kMaxGroups = 100'000;
-  const auto check_grid = [&](const GridAxes& axes, std::size_t others, const toml::node& at, const std::string& key) {
-    std::size_t n = std::max<std::size_t>(others, 1);
-    for (const auto& [k, values] : axes) {
-      n *= values.size();
-      if (n > kMaxGroups) r.fail(at, key, fmt::format("the grid has more than {} groups", kMaxGroups));
-    }
+  const auto grid_size = [&](const GridAxes& axes) {  // saturating at kMaxGroups + 1
+    std::size_t n = 1;
+    for (const auto& [k, values] : axes) n = std::min(n * values.size(), kMaxGroups + 1);
+    return n;
+  };
+  const auto too_many = [&](const toml::node& at, const std::string& key) {
+    r.fail(at, key, fmt::format("the experiment has more than {} groups", kMaxGroups));
   };
   for (std::size_t i = 0; i < suites.size(); ++i) {
     const std::string at = TomlReader::index("suites", i);
@@ -522,7 +523,7 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
     if (const auto* s = r.find(t, "settings")) {
       axes = read_grid_settings(r, *s, TomlReader::join(at, "settings"), SettingScope{suite, {}});
       note_keys(*s, axes);
-      check_grid(axes, instances.size(), *s, TomlReader::join(at, "settings"));
+      if (instances.size() + grid_size(axes) > kMaxGroups) too_many(*s, TomlReader::join(at, "settings"));
     }
     for (Settings& point : expand_grid(axes)) instances.push_back({suite, std::move(point)});
   }
@@ -553,7 +554,7 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
       static const SuiteEntry kNoParameters{};
       axes = read_grid_settings(r, *o, TomlReader::join(at, "options"), SettingScope{&kNoParameters, {method}});
       note_keys(*o, axes);
-      check_grid(axes, (variants.size() + 1) * instances.size(), *o, TomlReader::join(at, "options"));
+      if ((variants.size() + grid_size(axes)) * instances.size() > kMaxGroups) too_many(*o, TomlReader::join(at, "options"));
     }
     for (Settings& point : expand_grid(axes)) variants.push_back({method, label, std::move(point)});
   }
