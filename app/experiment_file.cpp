@@ -20,16 +20,7 @@ namespace hyfal {
 
 namespace {
 
-// Control characters of a key or a quoted value escaped, so that a message stays one line.
-std::string one_line(std::string_view s) {
-  std::string out;
-  for (const char c : s)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
-    else
-      out += c;
-  return out;
-}
+using cli::one_line;  // a key or value quoted from the file may hold control characters
 
 std::string_view type_name(const toml::node& node) {
   switch (node.type()) {

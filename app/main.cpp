@@ -216,15 +216,7 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
 int cmd_validate(const std::string& file) {
   // Names and values quoted from the file may hold control characters (a JSON "\n"): escaped,
   // so that an error stays one line.
-  const auto one_line = [](std::string_view s) {
-    std::string out;
-    for (const char c : s)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-        out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
-      else
-        out += c;
-    return out;
-  };
+  using cli::one_line;
   Witness w;
   try {
     w = witness_from_text(cli::read_input_file(file));

@@ -273,6 +273,16 @@ JobsRun run_jobs(const std::vector<TrialJob>& jobs, TrialStore& store, const Eng
   return result;
 }
 
+std::string one_line(std::string_view text) {
+  std::string out;
+  for (const char c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
+    else
+      out += c;
+  return out;
+}
+
 std::string read_input_file(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw UsageError(fmt::format("'{}' is a directory, not a file", path));

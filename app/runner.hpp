@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/shard.hpp"
@@ -144,6 +145,9 @@ struct GroupsRun {
 // each group's stored trials.
 std::optional<GroupsRun> run_groups(const std::string& what, const std::vector<const TrialGroup*>& groups,
                                     const RunOptions& options);
+
+// Control characters escaped (\xNN), so that a message quoting a file's text stays one line.
+std::string one_line(std::string_view text);
 
 // The text of an input file; throws UsageError naming the file if it cannot be read.
 std::string read_input_file(const std::string& path);

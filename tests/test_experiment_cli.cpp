@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -102,16 +103,17 @@ void PrintTo(const BadFileCase& c, std::ostream* os) { *os << c.name; }
 
 class BadTableFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
 
-TEST_P(BadTableFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
-  const BadFileCase& c = GetParam();
-  std::string text = kTable;
+// Writes `base` edited as the case says to work()/bad.toml, runs hyfal with `args` and checks that
+// it exits 2 with one line naming bad.toml, the line and the key, and writes nothing.
+void expect_refused(const fs::path& work, const BadFileCase& c, const std::string& base,
+                    const Args& args, const std::function<Result(const Args&)>& hyfal) {
+  std::string text = base;
   const auto at = text.find(c.from);
   ASSERT_NE(at, std::string::npos) << c.from;
   text.replace(at, c.from.size(), c.to);
-  write_text(work() / "bad.toml", text);
-  const auto before = snapshot(work());
-  const Result r = hyfal({"reproduce", "bad.toml", "--profile", "smoke", "--db", "out/db.sqlite", "--witness-dir",
-                          "out/wit", "--out-dir", "out/tables"});
+  write_text(work / "bad.toml", text);
+  const auto before = snapshot(work);
+  const Result r = hyfal(args);
   EXPECT_EQ(r.code, 2) << r;
   EXPECT_EQ(lines(r.err).size(), 1u) << r;
   EXPECT_EQ(r.err.rfind("hyfal: error: bad.toml:" + c.where, 0), 0u) << r;
@@ -119,7 +121,14 @@ TEST_P(BadTableFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
     EXPECT_TRUE(contains(r.err, ": " + c.key + ": ")) << r;
   }
   EXPECT_EQ(r.out, "") << r;
-  EXPECT_EQ(snapshot(work()), before) << "a bad file writes nothing\n" << r;
+  EXPECT_EQ(snapshot(work), before) << "a bad file writes nothing\n" << r;
+}
+
+TEST_P(BadTableFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
+  expect_refused(work(), GetParam(), kTable,
+                 {"reproduce", "bad.toml", "--profile", "smoke", "--db", "out/db.sqlite", "--witness-dir", "out/wit",
+                  "--out-dir", "out/tables"},
+                 [this](const Args& a) { return hyfal(a); });
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -207,22 +216,9 @@ columns = ["step"]
 class BadExperimentFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
 
 TEST_P(BadExperimentFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
-  const BadFileCase& c = GetParam();
-  std::string text = kExperiment;
-  const auto at = text.find(c.from);
-  ASSERT_NE(at, std::string::npos) << c.from;
-  text.replace(at, c.from.size(), c.to);
-  write_text(work() / "bad.toml", text);
-  const auto before = snapshot(work());
-  const Result r = hyfal({"run", "bad.toml", "--db", "out/db.sqlite", "--witness-dir", "out/wit", "--out-dir", "out/tables"});
-  EXPECT_EQ(r.code, 2) << r;
-  EXPECT_EQ(lines(r.err).size(), 1u) << r;
-  EXPECT_EQ(r.err.rfind("hyfal: error: bad.toml:" + c.where, 0), 0u) << r;
-  if (!c.key.empty()) {
-    EXPECT_TRUE(contains(r.err, ": " + c.key + ": ")) << r;
-  }
-  EXPECT_EQ(r.out, "") << r;
-  EXPECT_EQ(snapshot(work()), before) << "a bad file writes nothing\n" << r;
+  expect_refused(work(), GetParam(), kExperiment,
+                 {"run", "bad.toml", "--db", "out/db.sqlite", "--witness-dir", "out/wit", "--out-dir", "out/tables"},
+                 [this](const Args& a) { return hyfal(a); });
 }
 
 INSTANTIATE_TEST_SUITE_P(
