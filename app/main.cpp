@@ -13,9 +13,12 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "app/experiment.hpp"
+#include "app/experiment_file.hpp"
 #include "app/merge.hpp"
 #include "app/plan.hpp"
 #include "app/reproduce.hpp"
+#include "app/runner.hpp"
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
@@ -38,17 +41,6 @@ namespace {
 
 // A bad input: reported as one line, exit code 2.
 using cli::UsageError;
-
-std::string read_file(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("'{}' is a directory, not a file", path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw UsageError(fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
-  return ss.str();
-}
 
 void write_output(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
@@ -106,9 +98,9 @@ int cmd_list(bool markdown) {
     for (const auto& o : m.options) print_setting(o);
   }
   fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|paper)\n");
-  const auto tables = cli::all_tables();
+  const auto& tables = builtin_paper_tables();
   if (tables.empty()) fmt::print("  (none)\n");
-  for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.table->id, t.table->title, t.suite->name);
+  for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.id, t.title, t.suite);
   return 0;
 }
 
@@ -147,21 +139,17 @@ int cmd_run(const RunArgs& a) {
   spec.seed = a.seed;
   const cli::TrialGroup group = cli::resolve_trial_group(spec);
 
-  if (a.plan) return cli::print_plan(fmt::format("{} on {}", method->name, suite->name), {&group}, shard, a.db);
-
-  TrialStore store = TrialStore::open(a.db);
-  const std::vector<TrialJob> jobs = cli::prepare_jobs(group, store.stored_trial_indices(group.base), shard);
-  const auto in_shard = static_cast<std::size_t>(shard.count_in(0, a.trials));
-  if (!a.quiet && jobs.size() < in_shard)
-    fmt::print(stderr, "[hyfal] resuming: {} of {} trials{} already stored in {}\n", in_shard - jobs.size(), in_shard,
-               shard.whole() ? "" : " of shard " + shard.text(), a.db);
-
-  const EngineOptions eo = cli::make_engine_options(a.threads, a.witness_dir, !a.quiet && isatty(STDERR_FILENO));
-  const cli::JobsRun jobs_run = cli::run_jobs(jobs, store, eo);
-
-  std::vector<TrialRecord> rows;
-  for (auto& r : store.load(a.experiment))
-    if (group.contains(r)) rows.push_back(std::move(r));
+  cli::RunOptions options;
+  options.threads = a.threads;
+  options.db = a.db;
+  options.witness_dir = a.witness_dir;
+  options.shard = shard;
+  options.plan = a.plan;
+  options.progress = !a.quiet && isatty(STDERR_FILENO);
+  options.quiet = a.quiet;
+  const auto run = cli::run_groups(fmt::format("{} on {}", method->name, suite->name), {&group}, options);
+  if (!run) return 0;  // --plan
+  const std::vector<TrialRecord>& rows = run->trials[0];
   const auto groups = summarize_trials(rows);
   std::cout << (a.format == "csv" ? to_csv(groups) : to_markdown(groups));
   if (!a.quiet) {
@@ -169,11 +157,11 @@ int cmd_run(const RunArgs& a) {
     for (const auto& r : rows) validated += r.validated;
     const Cluster* cluster = Cluster::current();
     fmt::print("\n{} trials ({} run now), {} witnesses validated; {}threads {}; database {}; witnesses under {}\n",
-               rows.size(), jobs_run.run_now, validated, cluster ? fmt::format("{} MPI ranks x ", cluster->size()) : "",
+               rows.size(), run->run_now, validated, cluster ? fmt::format("{} MPI ranks x ", cluster->size()) : "",
                a.threads > 0 ? a.threads : default_thread_count(), a.db,
                a.witness_dir);
   }
-  return jobs_run.errors ? 1 : 0;
+  return run->errors ? 1 : 0;
 }
 
 // --- table ------------------------------------------------------------------------------------
@@ -246,18 +234,10 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
 int cmd_validate(const std::string& file) {
   // Names and values quoted from the file may hold control characters (a JSON "\n"): escaped,
   // so that an error stays one line.
-  const auto one_line = [](std::string_view s) {
-    std::string out;
-    for (const char c : s)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-        out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
-      else
-        out += c;
-    return out;
-  };
+  using cli::one_line;
   Witness w;
   try {
-    w = witness_from_text(read_file(file));
+    w = witness_from_text(cli::read_input_file(file));
   } catch (const WitnessError& e) {
     throw UsageError(one_line(fmt::format("'{}': {}", file, e.what())));
   }
@@ -390,7 +370,12 @@ int run_command(int argc, char** argv) {
       "On a cluster: `mpirun -n K hyfal run ...` runs the same trials on K processes: rank 0 hands them out\n"
       "and is the only one to write --db and --witness-dir; every rank runs --threads threads. Results equal\n"
       "those of one process, and a run stopped at one K resumes at any other (README: Running on a cluster).");
-  run->add_option("--suite", ra.suite, "suite name (see 'hyfal list')")->required();
+  cli::ExperimentArgs xa;
+  run->add_option("file", xa.file,
+                  "an experiment file (.toml): suites, methods, trials, caps, seed and table layout (README: "
+                  "\"Tables and experiments as TOML files\"); instead of --suite, --method, --set, --trials, "
+                  "--timeout, --max-nodes, --seed, --experiment and --format");
+  auto* run_suite = run->add_option("--suite", ra.suite, "suite name (see 'hyfal list'); required without a file");
   run->add_option("--method", ra.method, "method name")->capture_default_str();
   run->add_option("--set", ra.sets, "instance parameter or method option, key=value (repeatable)");
   run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1), at most 1000000")
@@ -414,6 +399,8 @@ int run_command(int argc, char** argv) {
   run->add_flag("--plan", ra.plan,
                 "print the number of trials, the caps and an upper bound of CPU-hours (and what --db still lacks), "
                 "run nothing and write nothing");
+  run->add_option("--out-dir", xa.out_dir, "with an experiment file: where NAME.md and NAME.csv are written")
+      ->capture_default_str();
 
   std::string tdb = "results/hyfal.sqlite", texp, tformat = "md", tout;
   auto* table = app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
@@ -427,7 +414,7 @@ int run_command(int argc, char** argv) {
   cli::ReproduceArgs pa;
   auto* reproduce = app.add_subcommand(
       "reproduce", "run a paper table's rows (resuming) and write <out-dir>/ID.md and .csv beside the paper's numbers");
-  reproduce->add_option("id", pa.id, "table id (see 'hyfal list')")->required();
+  reproduce->add_option("id", pa.id, "table id (see 'hyfal list') or the path of a table file (.toml)")->required();
   reproduce->footer("Runs on a cluster like `run` does: `mpirun -n K hyfal reproduce ID --profile P` (see `hyfal run --help`).");
   reproduce->add_option("--profile", pa.profile, "smoke (seconds), quick (minutes) or paper (the paper's set-up)")
       ->required()
@@ -493,7 +480,26 @@ int run_command(int argc, char** argv) {
   }
   try {
     if (*list) return cmd_list(list_markdown);
-    if (*run) return cmd_run(ra);
+    if (*run) {
+      if (xa.file.empty()) {
+        if (run_suite->count() == 0) throw UsageError("--suite is required (or an experiment file)");
+        if (run->get_option("--out-dir")->count() > 0) throw UsageError("--out-dir is for an experiment file");
+        return cmd_run(ra);
+      }
+      // The file states what the flags would: giving both would leave one of them unused.
+      for (const char* flag : {"--suite", "--method", "--set", "--trials", "--timeout", "--max-nodes", "--seed",
+                               "--experiment", "--format"})
+        if (run->get_option(flag)->count() > 0)
+          throw UsageError(fmt::format("{}: the experiment file '{}' states the run; give a file or flags, not both",
+                                       flag, xa.file));
+      xa.threads = ra.threads;
+      xa.db = ra.db;
+      xa.witness_dir = ra.witness_dir;
+      xa.shard = ra.shard;
+      xa.plan = ra.plan;
+      xa.quiet = ra.quiet;
+      return cli::cmd_run_experiment(xa);
+    }
     if (*table) return cmd_table(tdb, texp, tformat, tout);
     if (*validate) return cmd_validate(vfile);
     if (*instance_export) return cmd_instance_export(xsuite, xsets);
@@ -503,6 +509,9 @@ int run_command(int argc, char** argv) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;
   } catch (const OptionError& e) {
+    fmt::print(stderr, "hyfal: error: {}\n", e.what());
+    return 2;
+  } catch (const ExperimentFileError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;
   } catch (const StoreError& e) {

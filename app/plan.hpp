@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "app/reproduce.hpp"
+#include "app/runner.hpp"
 #include "app/shard.hpp"
 
 namespace hyfal::cli {

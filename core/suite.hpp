@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "core/model.hpp"
-#include "core/paper_table.hpp"
 #include "core/planner.hpp"
 
 namespace hyfal {
@@ -18,7 +17,6 @@ struct SuiteEntry {
   std::vector<OptionSpec> parameters;
   // Builds the system of a resolved instance; throws std::invalid_argument on bad values.
   std::function<std::shared_ptr<const System>(const Json& instance)> make;
-  std::vector<PaperTable> tables = {};  // the paper tables this suite reproduces
   // The instance as JSON for outside tools (`hyfal instance export`); empty: SystemInfo only.
   std::function<Json(const Json& instance)> export_instance = {};
 };

@@ -99,14 +99,20 @@ std::string to_markdown(std::span<const GroupSummary> groups) {
   return table;
 }
 
-std::string to_csv(std::span<const GroupSummary> groups) {
+std::string to_csv(std::span<const GroupSummary> groups) { return to_csv(groups, {}); }
+
+std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPlace> places) {
   constexpr std::string_view kLineEnd = "\r\n";
-  std::string csv =
+  std::string csv = places.empty() ? "" : "block,row,column,";
+  csv +=
       "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
       "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
       "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high";
   csv += kLineEnd;
-  for (const GroupSummary& group : groups) {
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const GroupSummary& group = groups[i];
+    if (!places.empty())
+      csv += fmt::format("{},{},{},", csv_field(places[i].block), csv_field(places[i].row), csv_field(places[i].column));
     const std::vector<std::string> fields{
         csv_field(group.suite),
         csv_field(group.instance),
@@ -135,6 +141,73 @@ std::string to_csv(std::span<const GroupSummary> groups) {
     csv += kLineEnd;
   }
   return csv;
+}
+
+std::string_view to_string(GroupMeasure measure) {
+  switch (measure) {
+    case GroupMeasure::falsified_rate: return "falsified_rate";
+    case GroupMeasure::time_mean_s: return "time_mean_s";
+    case GroupMeasure::time_median_s: return "time_median_s";
+    case GroupMeasure::nodes_mean: return "nodes_mean";
+    case GroupMeasure::nodes_median: return "nodes_median";
+  }
+  return "?";
+}
+
+std::string to_markdown(std::span<const GroupSummary> groups, std::span<const GroupPlace> places,
+                        GroupMeasure measure) {
+  // Labels in order of first appearance.
+  const auto first_seen = [&](std::string GroupPlace::*field) {
+    std::vector<std::string> labels;
+    for (const GroupPlace& p : places)
+      if (std::find(labels.begin(), labels.end(), p.*field) == labels.end()) labels.push_back(p.*field);
+    return labels;
+  };
+  const std::vector<std::string> blocks = first_seen(&GroupPlace::block), rows = first_seen(&GroupPlace::row),
+                                 columns = first_seen(&GroupPlace::column);
+  const auto cell = [&](const GroupSummary& g, bool& marked) {
+    const bool censored = measure != GroupMeasure::falsified_rate && is_censored(g);
+    marked = marked || censored;
+    switch (measure) {
+      case GroupMeasure::falsified_rate: return g.n == 0 ? std::string(kMissing) : fmt::format("{:.2f}", g.falsified_rate);
+      case GroupMeasure::time_mean_s: return mark_censored(format_time(g.wall_s.mean), censored);
+      case GroupMeasure::time_median_s: return mark_censored(format_time(g.wall_s.median), censored);
+      case GroupMeasure::nodes_mean: return mark_censored(format_count(g.nodes.mean), censored);
+      case GroupMeasure::nodes_median: return mark_censored(format_count(g.nodes.median), censored);
+    }
+    return std::string(kMissing);
+  };
+  std::string md;
+  bool marked = false;
+  for (const std::string& block : blocks) {
+    if (!(blocks.size() == 1 && block.empty())) md += fmt::format("### {}\n\n", block);
+    std::vector<std::string> header{markdown_cell(std::string(to_string(measure)))};
+    for (const auto& c : columns) header.push_back(markdown_cell(c));
+    md += markdown_row(header);
+    std::vector<std::string> separator{"---"};
+    separator.resize(header.size(), "--:");
+    md += markdown_row(separator);
+    for (const std::string& row : rows) {
+      std::vector<std::string> line{markdown_cell(row)};
+      bool any = false;
+      for (const std::string& column : columns) {
+        std::string text(kMissing);
+        for (std::size_t i = 0; i < places.size() && i < groups.size(); ++i)
+          if (places[i].block == block && places[i].row == row && places[i].column == column) {
+            text = cell(groups[i], marked);
+            any = true;
+          }
+        line.push_back(text);
+      }
+      if (any) md += markdown_row(line);
+    }
+    md += "\n";
+  }
+  if (marked)
+    md += fmt::format("{} right-censored: the cell has trials stopped by the time limit or the node cap, counted with "
+                      "the time and nodes they had when stopped, so the true value is at least this.\n",
+                      kAtLeast);
+  return md;
 }
 
 }  // namespace hyfal

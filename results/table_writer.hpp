@@ -2,6 +2,8 @@
 #pragma once
 #include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "results/statistics.hpp"
 
@@ -22,5 +24,26 @@ std::string to_markdown(std::span<const GroupSummary> groups);
 // nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high. Numbers are written with full
 // (round-trip) precision; a NaN statistic is an empty field.
 std::string to_csv(std::span<const GroupSummary> groups);
+
+// Where a group sits in an experiment's table (experiment files: `[table]` rows, columns, blocks).
+struct GroupPlace {
+  std::string block, row, column;
+};
+
+// What a laid-out table shows per cell.
+enum class GroupMeasure { falsified_rate, time_mean_s, time_median_s, nodes_mean, nodes_median };
+
+// "falsified_rate", "time_mean_s", "time_median_s", "nodes_mean", "nodes_median".
+std::string_view to_string(GroupMeasure measure);
+
+// groups[i] laid out at places[i]: per block (in order of first appearance; a "### block" heading
+// unless the only block is "") one Markdown table, rows x columns in order of first appearance,
+// each cell the group's `measure` ("≥" when the group has stopped trials and the measure is a
+// time or node count, as in to_markdown; "–" where no group sits), and the "≥" footnote if used.
+std::string to_markdown(std::span<const GroupSummary> groups, std::span<const GroupPlace> places,
+                        GroupMeasure measure);
+
+// to_csv with the columns block,row,column of places[i] in front of each group's line.
+std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPlace> places);
 
 }  // namespace hyfal

@@ -706,76 +706,6 @@ AircraftScenario aircraft_scenario(const Json& instance) {
   return r.random ? aircraft_random_scenario(r.n, r.o.p_default, r.seed) : aircraft_esposito5_scenario();
 }
 
-namespace {
-
-// seed 003 Sect. 6.1, Example 1: RRFT over P = [4.5, 5.5] found a collision at p = 5.25 after
-// about 8,600 nodes and 5 seeds (one run reported).
-PaperTable esposito_aircraft() {
-  PaperTable t;
-  t.id = "esposito-aircraft";
-  t.title = "RRFT on the 5-aircraft crossing (original protocol): a protect radius p in P and a wind that make two aircraft collide";
-  t.source = "seed 003 Sect. 6.1, Example 1 (one run: collision after about 8,600 nodes, 5 seeds, p = 5.25)";
-  t.suite = "aircraft";
-  t.columns = {{"nodes to collision", TableMetric::nodes, ""},
-               {"seeds planted", TableMetric::coverage, "seeds_planted"},
-               {"winning p (km)", TableMetric::coverage, "winning_p0"},
-               {"falsified rate", TableMetric::falsified_rate, ""},
-               {"time (s)", TableMetric::time_s, ""}};
-  // n_t = 3: "Three initial seeds are planted" (seed 003 Sect. 6.1); Alg. 3 plants n_t initial seeds.
-  t.rows = {{"RRFT", "rrft", {{"example", "esposito5"}, {"protocol", "original"}, {"n_t", "3"}},
-             {8600, 5, 5.25, 1.0, kNotReported}}};
-  t.smoke = {1, 30.0, 50'000, {}};
-  t.quick = {10, 120.0, 1'000'000, {}};
-  t.paper = {10, 600.0, 5'000'000, {}};
-  t.notes =
-      "The paper shows its 5-aircraft start and goal positions only in a figure; ours is a symmetric crossing "
-      "(five aircraft on a 40 km circle bound for the opposite points, see suites/aircraft.cpp), on which "
-      "collisions are reachable over the whole of P = [4.5, 5.5] under the wind, so RRFT's first Halton seeds "
-      "already succeed: fewer nodes and seeds than the paper's instance needed. Every number the paper gives is "
-      "used as given: v = 0.3 km/s, omega = 0.03 rad/s, P = [4.5, 5.5] km, ||u|| <= 0.03 km/s (a box, as its "
-      "figure), collision distance 1 km, three initial seeds (n_t = 3, Alg. 3: also the most trees active at "
-      "once). Our choices: the positions, growth / coverage termination and mu_min = 0.1 (RRFT's defaults; "
-      "the paper gives g = 1e-10 on a scale it does not define, see core/planners/rrft/rrft.cpp). Series: "
-      "dispersion of the seeds and the first tree's coverage D(T) and growth g(T) against nodes.";
-  t.series = {"dispersion", "coverage/tree0", "growth/tree0"};
-  return t;
-}
-
-// seed 002 Table 2: median time over 200 random instances of the safer protocol, 3600 s limit.
-PaperTable plaku_table2() {
-  const double X = kPaperTimeout;
-  PaperTable t;
-  t.id = "plaku-table2";
-  t.title = "HyDICE vs RRT, RRT[D*] on aircraft conflict resolution (safer protocol), median time (s) by N";
-  t.source = "seed 002 Table 2 (200 random instances per N, timeout 3600 s); the 5-aircraft original-protocol column is ours";
-  t.suite = "aircraft";
-  t.rows = {{"HyDICE", "hydice", {}, {}}, {"RRT", "rrt", {}, {}}, {"RRT[D*]", "rrt-dstar", {}, {}}};
-  TableSweep sw;
-  sw.columns.push_back({"5 (hand, original)", {{"example", "esposito5"}, {"protocol", "original"}}});
-  for (const int n : {10, 15, 20})
-    sw.columns.push_back({fmt::format("N = {}", n), {{"example", "random"}, {"protocol", "safer"}, {"N", std::to_string(n)}}});
-  sw.instance_key = "seed";
-  sw.paper_timeout_s = 3600.0;
-  sw.median = true;
-  sw.paper = {{{kNotReported, 30.35, 42.67, 77.61}, {kNotReported, 242.15, 394.40, 1973.11}, {kNotReported, X, X, X}}};
-  t.sweep = std::move(sw);
-  t.smoke = {1, 10.0, 200'000, {}, 1, 2};         // the hand instance and N = 10; instance seed 0
-  t.quick = {1, 30.0, 3'000'000, {}, 5, -1};      // every column, instance seeds 0-4
-  t.paper = {1, 3600.0, 50'000'000, {}, 200, -1}; // 200 instances per N, as the paper
-  t.notes =
-      "Instances: seed 002's random generator (Sect. 4.2.2, exact formulas) with instance seeds 0..k-1, safer "
-      "protocol, p = 5.25, d = 1, v = 0.3, c = 0.03, w = 0.1; one trial per instance; cells are medians over "
-      "the instances (a timed-out trial counts with the limit, so a median at the limit means more than half "
-      "timed out). The first column is our 5-aircraft crossing under the original protocol (seed 003 "
-      "Example 1, w = 0.03), the instance on which the paper says every method succeeds in seconds; the "
-      "instance seed does not change it, only the trial's random stream. HyDICE uses the suite's "
-      "decomposition (bands of the minimum separation against time, see suites/aircraft.cpp) and draws the "
-      "wind from Ū = {-w, 0, w}² (inputs=auto). delta t = 20 s per extension.";
-  return t;
-}
-
-}  // namespace
-
 SuiteEntry aircraft_suite() {
   SuiteEntry e;
   e.name = "aircraft";
@@ -798,7 +728,6 @@ SuiteEntry aircraft_suite() {
       {"lookahead", 20.0, "HyDICE regions: bands of the closest approach predicted this far ahead (straight flight), s", "[0, 1000]"}};
   e.make = make_aircraft;
   e.export_instance = export_aircraft;
-  e.tables = {esposito_aircraft(), plaku_table2()};
   return e;
 }
 

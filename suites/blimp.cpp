@@ -321,44 +321,6 @@ std::shared_ptr<const System> make_blimp(const Json& instance) {
 
 }  // namespace
 
-namespace {
-
-// seed 003 Sect. 6.2: RRFT over the waypoint P found a collision after about 9,000 nodes with
-// 8 seeds, at p = (95, -62.2, -10) (one run reported).
-PaperTable esposito_blimp() {
-  PaperTable t;
-  t.id = "esposito-blimp";
-  t.title = "RRFT on the blimp: a waypoint p in P and a wind that make the blimp hit the tower";
-  t.source = "seed 003 Sect. 6.2 (one run: counterexample after about 9,000 nodes, 8 seeds, p = (95, -62.2, -10))";
-  t.suite = "blimp";
-  t.columns = {{"nodes to collision", TableMetric::nodes, ""},
-               {"seeds planted", TableMetric::coverage, "seeds_planted"},
-               {"winning p_x (m)", TableMetric::coverage, "winning_p0"},
-               {"winning p_y (m)", TableMetric::coverage, "winning_p1"},
-               {"falsified rate", TableMetric::falsified_rate, ""},
-               {"time (s)", TableMetric::time_s, ""}};
-  // n_t = 3 initial seeds, as the paper's other RRFT example (Sect. 6.1); Sect. 6.2 does not say.
-  t.rows = {{"RRFT", "rrft", {{"n_t", "3"}}, {9000, 8, 95, -62.2, 1.0, kNotReported}}};
-  t.smoke = {1, 30.0, 3'000, {}};
-  t.quick = {10, 120.0, 1'000'000, {}};
-  t.paper = {10, 600.0, 5'000'000, {}};
-  t.notes =
-      "Our blimp model, wind bounds and tower are ours (the paper defers its model to another reference; see "
-      "suites/blimp.cpp): a collision is reachable only for waypoints in roughly the corner p_x + p_y >= 30 of P, "
-      "so most seeds grow trees that cannot succeed, which costs nodes. Used as the paper gives them: initial "
-      "speed 0.5 m/s, target 1 m/s, start (0, 0, -5), goal (150, -150, -10) within 20 m, P = [80, 100] x "
-      "[-80, -60] x {-10}, wind rate 0.05 1/s (read as the filter bandwidth). Not as printed: the wind bound, "
-      "0.3 m/s per component where the paper prints 0.03 km/s = 30 m/s, 30 times the blimp's speed, under which "
-      "no waypoint can be followed (the figure looks copied from the aircraft example; wind_max=30 runs the "
-      "literal value). RRFT with n_t = 3 initial seeds (as Sect. 6.1), growth / coverage termination, mu_min = "
-      "0.1 on the normalized 2-D P; the paper's thresholds are not given. Series: dispersion of the seeds and the first tree's "
-      "coverage D(T) and growth g(T) against nodes.";
-  t.series = {"dispersion", "coverage/tree0", "growth/tree0"};
-  return t;
-}
-
-}  // namespace
-
 SuiteEntry blimp_suite() {
   return {"blimp",
           "seed 003 Sect. 6.2: waypoint-following blimp under bounded wind; can a waypoint p make it hit the obstacle?",
@@ -371,8 +333,7 @@ SuiteEntry blimp_suite() {
            {"obstacle_x", 122.0, "x of the tower's axis, m", "[-1000, 1000]"},
            {"obstacle_y", -68.0, "y of the tower's axis, m", "[-1000, 1000]"},
            {"obstacle_r", 8.0, "collision distance from the axis (tower radius + the blimp's half length), m", "(0, 1000]"}},
-          make_blimp,
-          {esposito_blimp()}};
+          make_blimp};
 }
 
 }  // namespace hyfal

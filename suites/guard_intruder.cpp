@@ -304,40 +304,6 @@ std::shared_ptr<const System> make_guard_intruder(const Json& instance) {
   return build_guard_intruder(instance, GuardLaw{});
 }
 
-PaperTable kim_table3() {
-  PaperTable t;
-  t.id = "kim-table3";
-  t.title = "Guard-intruder: enhancements of RRT (nodes, time, coverage after 5000 nodes)";
-  t.source = "seed 000 Table III (10 trials, 3 GHz PC)";
-  t.suite = "guard-intruder";
-  t.columns = {{"nodes", TableMetric::nodes, ""},
-               {"time (s)", TableMetric::time_s, ""},
-               {"coverage after 5000 nodes", TableMetric::coverage, "coverage"}};
-  t.rows = {
-      {"No Enhancement", "enhanced-rrt", {}, {20544, 9020.9, 0.0190}},
-      {"Dynamics-based", "enhanced-rrt", {{"selection", "t2go"}}, {12960, 3655.6, 0.0196}},
-      {"History-based", "enhanced-rrt", {{"history", "tree"}}, {8176, 3101.8, 0.0246}},
-      {"Adaptively biased", "enhanced-rrt", {{"sampling", "adaptive"}}, {6398, 1791.6, kNotReported}},
-      {"Three Enhancements", "enhanced-rrt",
-       {{"selection", "t2go"}, {"history", "tree"}, {"sampling", "adaptive"}},
-       {7520, 2429.2, kNotReported}},
-  };
-  t.smoke = {2, 10.0, 20000, {}};
-  // quick: 30 trials where the paper ran 10: node counts spread over an order of magnitude, and
-  // at 10 trials the rank test cannot separate History or Adaptive from no enhancement.
-  t.quick = {30, 60.0, 1'000'000, {}};
-  t.paper = {10, 3600.0, 100'000'000, {}};
-  t.notes =
-      "The quick profile runs 30 trials per row (the paper: 10), so that the ordering verdicts can "
-      "tell a difference from noise. Guard law constants, intruder speed bound (15 m/s), initial conditions, δt = 1 s, Ū = 3 x 3 "
-      "and the metric are ours (the paper leaves them open; see suites/guard_intruder.cpp). The "
-      "paper's times are from a 3 GHz PC of 2008; compare ratios between rows, not seconds. "
-      "Coverage: intruder-position grid, 10 m over [-300, 300]^2, after 5000 nodes; the paper does "
-      "not give its grid, so compare coverage between rows, not with its absolute values. "
-      "enhanced-rrt grows one tree per intruder start (8, Fig. 12); baseline `rrt` grows one.";
-  return t;
-}
-
 }  // namespace
 
 SuiteEntry guard_intruder_suite() {
@@ -352,7 +318,6 @@ SuiteEntry guard_intruder_suite() {
                   {"cruise_speed", 10.0, "the intruder's initial speed, m/s", "[0, 1000]"},
                   {"max_speed", 15.0, "bound on the intruder's |v| (part of the invariant), m/s", "(0, 1000]"}};
   e.make = make_guard_intruder;
-  e.tables = {kim_table3()};
   return e;
 }
 

@@ -181,41 +181,6 @@ std::shared_ptr<const System> make_hovercraft(const Json& instance) {
   return std::make_shared<ModelSystem<Hovercraft>>(Hovercraft(alpha, beta, levels), std::move(info));
 }
 
-PaperTable kim_table2() {
-  PaperTable t;
-  t.id = "kim-table2";
-  t.title = "Hovercraft: uniform vs. fixed-bias vs. adaptively biased sampling";
-  t.source = "seed 000 Table II (10 trials, 1 GHz PC)";
-  t.suite = "hovercraft";
-  t.columns = {{"nodes", TableMetric::nodes, ""}, {"time (s)", TableMetric::time_s, ""}};
-  t.rows = {{"Uniform", "enhanced-rrt", {{"sampling", "uniform"}}, {3556.0, 1753.5}},
-            {"Med. Bias", "enhanced-rrt", {{"sampling", "medium"}}, {1017.0, 490.2}},
-            {"Heavy Bias", "enhanced-rrt", {{"sampling", "heavy"}}, {912.0, 408.3}},
-            {"Adaptive Bias", "enhanced-rrt", {{"sampling", "adaptive"}}, {678.0, 342.5}},
-            // Extra row (not in the paper): the other reading of (III.5), counts restarted every N_s.
-            {"Adaptive Bias, counts restarted every N_s (ours)", "enhanced-rrt", {{"sampling", "adaptive"}, {"beta_counts", "window"}},
-             {kNotReported, kNotReported}}};
-  t.smoke = {2, 10.0, 20000, {}};
-  // 30 trials: at 10 the rank test could not separate adjacent rows (node counts are long-tailed).
-  t.quick = {30, 120.0, 1'000'000, {}};
-  t.paper = {10, 3600.0, 10'000'000, {}};
-  t.series = {"beta"};  // Fig. 9: β against iterations, per trial of the adaptive row
-  t.notes =
-      "Paper: 10 trials on a 1 GHz PC, so its times are not comparable with ours; compare the node "
-      "counts and the ordering of the rows. The air-force model, the constants (m, J, l, drag, α, β), "
-      "δt, Ū, the sampling box and the metric weights are ours (the paper omits them; see "
-      "suites/hovercraft.cpp), so absolute node counts differ too. Adaptive bias: β starts at 1 (Alg. 3) "
-      "and is recomputed every N_s = 50 iterations (the paper leaves N_s to the user) as n_s / n_β (III.5), "
-      "with both counts running over the whole search: the paper says when β is recomputed, not that the "
-      "counts restart. The extra row restarts them every N_s iterations; a window whose few samples in S "
-      "all fail then sets β = 0, and at σ = σ_max almost no sample lands in the 10 x 10 m goal again, so β "
-      "stays 0 (about 90 % of its updates). Either way β settles near the success rate of the extensions "
-      "toward samples in S (about 0.4-0.6 here), i.e. between the medium and heavy bias, and the adaptive "
-      "row lands between those two rows: in our model the heavy bias alone is very effective (36x fewer "
-      "nodes than uniform, the paper's 3.9x), so there is little left for adaptation to gain.";
-  return t;
-}
-
 }  // namespace
 
 SuiteEntry hovercraft_suite() {
@@ -226,8 +191,7 @@ SuiteEntry hovercraft_suite() {
            {"alpha", 0.2, "vortex wind v_air,1 = -alpha x2 inside r <= 100, 1/s", "[0, 100]"},
            {"beta", 0.2, "vortex wind v_air,2 = beta x1 inside r <= 100, 1/s", "[0, 100]"},
            {"rk4_step", 0.01, "RK4 integration step, seconds (<= step)", "[1e-5, 10]"}},
-          make_hovercraft,
-          {kim_table2()}};
+          make_hovercraft};
 }
 
 }  // namespace hyfal

@@ -760,66 +760,6 @@ Json navigation_instance_json(const Json& instance) {
           {"constants", std::move(constants)}};
 }
 
-namespace {
-
-// seed 002 Table 1 (Plaku, Kavraki & Vardi): mean time over 40 safety properties, 3600 s limit.
-PaperTable plaku_table1() {
-  const double X = kPaperTimeout;
-  PaperTable t;
-  t.id = "plaku-table1";
-  t.title = "HyDICE vs RRT, RRT[D*], HyDICE[NoLeads] on the navigation benchmark, time (s) by |Q| and driver";
-  t.source = "seed 002 Table 1 (40 safety properties per instance, timeout 3600 s)";
-  t.suite = "navigation";
-  t.rows = {{"RRT", "rrt", {}, {}},
-            {"RRT[D*]", "rrt-dstar", {}, {}},
-            {"HyDICE[NoLeads]", "hydice-noleads", {}, {}},
-            {"HyDICE", "hydice", {}, {}}};
-  TableSweep sw;
-  for (const int n : {1, 2, 4, 8, 16, 32, 64, 128, 512, 1024})
-    sw.columns.push_back({fmt::format("{}²", n), {{"n", std::to_string(n)}}});
-  sw.blocks = {{"RandomDriver", {{"driver", "random"}}},
-               {"StudentDriver", {{"driver", "student"}}},
-               {"HighwayDriver", {{"driver", "highway"}}}};
-  sw.instance_key = "property";
-  sw.paper_timeout_s = 3600.0;
-  // The paper's columns 1² .. 1024² (1²: the one terrain's quarters, see the suite's header).
-  sw.paper = {{{0.1, 0.1, 0.3, 1.5, 16.8, 195.3, X, X, X, X},
-               {0.1, 0.9, 0.5, 4.7, 5.1, 24.8, 411.3, X, X, X},
-               {0.1, 0.1, 0.3, 3.6, 5.7, 10.0, 147.1, 564.8, X, X},
-               {0.4, 0.4, 0.6, 1.2, 1.5, 2.4, 11.1, 66.1, 352.7, 1198.4}},
-              {{0.1, 0.2, 0.7, 2.4, 25.4, 210.5, X, X, X, X},
-               {0.1, 1.4, 0.3, 1.0, 4.6, 23.2, 605.8, X, X, X},
-               {0.1, 0.1, 0.4, 3.4, 5.6, 10.3, 189.2, 576.8, X, X},
-               {0.4, 0.4, 0.7, 1.3, 1.8, 3.4, 12.4, 64.6, 294.5, 1289.9}},
-              {{0.1, 0.2, 0.3, 2.9, 25.5, 219.3, X, X, X, X},
-               {0.2, 0.7, 0.2, 0.9, 3.9, 23.7, 515.5, X, X, X},
-               {0.1, 0.1, 0.4, 4.0, 5.9, 8.8, 151.6, 514.9, X, X},
-               {0.4, 0.4, 0.6, 1.3, 1.8, 2.9, 10.9, 70.4, 288.9, 954.8}}};
-  t.sweep = std::move(sw);
-  t.smoke = {1, 10.0, 200'000, {}, 1, 3};        // 1², 2², 4²; property 0
-  t.quick = {1, 20.0, 3'000'000, {}, 3, 8};      // up to 128²; properties 0-2
-  t.paper = {1, 3600.0, 50'000'000, {}, 40, -1}; // every column, the 40 properties
-  t.notes =
-      "Instance seed 1 for every |Q| (the maze, vehicles and the 40 properties come from it); one trial per "
-      "property. 1²: one terrain leaves no other terrain to be unsafe, so its start and unsafe places are two of "
-      "its four quarters (start at a quarter's centre, unsafe = another quarter; the paper's 1² times, as short as "
-      "its 2² ones, imply such a small task). SDDrive's wheel limits are read as 5 rad/s and 10 rad/s² (the printed °/s would make it cross a "
-      "1 m terrain in a minute; sddrive_wheel_unit=deg restores them). HyDICE uses the suite's decomposition "
-      "(2 x 2 regions per terrain), ν, ζ, τ = 1, 2, 0.5 and t_σ = 100 propagations (see core/planners/hydice). "
-      "The paper's times are from a 2011 machine with GSL's RK8 integrator; ours use RK4, ε = 0.01 s, T = 2 s per extension. "
-      "Input policy, the same for every method (inputs=driver, driver_draws=1): each extension applies one control "
-      "drawn uniformly from the driver's interval at the node (seed 002 Alg. 3:1, the PropagateForward all its "
-      "methods share); RRT and RRT[D*] pick x_near by the metric and apply it. RRT's stall in large mazes: a "
-      "propagation into a wall stops at the last valid state with the velocity into the wall, from which no control "
-      "moves (every propagation is rejected at its first step); such nodes on the tree's frontier are the nearest "
-      "node to almost every x_rand beyond them, so RRT selects them again and again (at 256², 4.6 M propagations "
-      "and 415 nodes in 10 s). HyDICE's selection (cells weighted 1/nsel²) moves on from them. The paper's RRT "
-      "times out from 64² on, as ours.";
-  return t;
-}
-
-}  // namespace
-
 SuiteEntry navigation_suite() {
   return {"navigation",
           "seed 002 Sect. 4.1: n x n terrains (SCar/SUni/SDDrive), Kruskal maze walls; reach the unsafe terrain",
@@ -835,7 +775,6 @@ SuiteEntry navigation_suite() {
            {"inputs", "driver", "input policy of every method: driver (u drawn uniformly from the driver's interval, Sect. 4.1.2) or grid (Ū mapped onto it)", "driver|grid"},
            {"sddrive_wheel_unit", "rad", "SDDrive's wheel limits 5 and 10 read as rad/s, rad/s² (rad) or as printed, °/s, °/s² (deg)", "rad|deg"}},
           make_navigation,
-          {plaku_table1()},
           navigation_instance_json};
 }
 

@@ -100,38 +100,7 @@ SuiteEntry thermostat_suite() {
            {"step", 0.1, "duration δt of one tree extension, minutes", "[0.001, 10]"},
            {"input_levels", 5, "points per input dimension in Ū (grid, endpoints included)", "[2, 101]"},
            {"sample_window", 10.0, "x_rand draws x2 and x3 from [0, sample_window]", "(0, 10000]"}},
-          make_thermostat,
-          {PaperTable{
-              "kim-table1",
-              "Thermostat: Euclidean metric vs. time-to-go t2go for the proximal node",
-              "seed 000 Table I (10 trials, 1 GHz PC)",
-              "thermostat",
-              {{"nodes", TableMetric::nodes, ""}, {"time (s)", TableMetric::time_s, ""}},
-              // Row 2 is Table I's t2go: Sect. III-A replaces rho by t2go in Line 2 (x_near) only,
-              // and Table I compares "the selection of proximal nodes". Row 3 is Alg. 4 as printed,
-              // which also picks u_new by t2go: an extra row, not the paper's.
-              {{"Euclidean", "enhanced-rrt", {}, {2284.0, 376.4}},
-               {"t2go (x_near, Sect. III-A)", "enhanced-rrt", {{"selection", "t2go"}, {"t2go_inputs", "false"}},
-                {1627.0, 231.0}},
-               {"t2go for x_near and u_new (Alg. 4 as printed; ours)", "enhanced-rrt", {{"selection", "t2go"}},
-                {kNotReported, kNotReported}}},
-              {3, 10.0, 1'000'000, {}},
-              // quick: 30 trials where the paper ran 10: at 10, the rank test cannot tell row 2's
-              // 0.46x of Euclid's nodes from noise (p = 0.11); the paper profile keeps 10.
-              {30, 60.0, 1'000'000, {}},
-              {10, 3600.0, 1'000'000, {}},
-              "Paper: 10 trials on a 1 GHz PC, so its times are not comparable with ours; compare the node "
-              "counts and the ordering of the rows. The quick profile runs 30 trials per row (10 leave the rank "
-              "test unable to tell row 2 from row 1). δt, Ū and the sampling window are ours (see the header "
-              "of suites/thermostat.cpp). Row 2 is Table I's t2go: Sect. III-A replaces the metric by t2go in "
-              "Line 2 of Alg. 2, the choice of x_near (among the 10 nearest), and Table I compares proximal-node "
-              "selection. Row 3 (not in the paper) is Alg. 4 as printed, which also takes u_new = argmin "
-              "t2go(x_new(u), x_rand): t2go divides the distance by the best closing speed, and temperature is "
-              "the fast direction (|u| up to 4, time moves at rate 1), so among one node's successors the one "
-              "that moves the temperature least toward x_rand has the smallest t2go. Toward a cooler x_rand, u_new "
-              "thus cools as slowly as it can (test TimeToGo.ThermostatInputChoiceByT2goMovesTheLeastTowardTheSample), "
-              "while the counterexample must cool fast: the likely reason this row needs several times "
-              "Euclid's nodes."}}};
+          make_thermostat};
 }
 
 }  // namespace hyfal

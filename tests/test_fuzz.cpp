@@ -12,6 +12,9 @@
 //  (b) settings: resolve_options / parse_option_value against every suite's parameters and every
 //      method's options with random key=value texts; then the suite's make (small instances only)
 //      and the method's make.
+//  (c) table and experiment files (TOML): load_paper_table / load_experiment_file on mutations of
+//      the committed experiments/paper/*.toml and experiments/example.toml (bytes, TOML values,
+//      deleted and duplicated lines, keys renamed); only ExperimentFileError, in one line.
 //
 // The property: no crash, no undefined behaviour, no hang, and no exception but the documented
 // ones (WitnessError from the witness parser, OptionError / std::invalid_argument from settings
@@ -37,6 +40,7 @@
 #include <typeinfo>
 #include <vector>
 
+#include "app/experiment_file.hpp"
 #include "core/options.hpp"
 #include "core/planner.hpp"
 #include "core/trajectory.hpp"
@@ -568,6 +572,90 @@ TEST(FuzzSettings, ParseOptionValueReturnsTheDeclaredTypeOrOptionError) {
     }
   }
   EXPECT_GT(rejected, 0);
+}
+
+// --- (c) table and experiment files --------------------------------------------------------------
+
+#ifndef HYFAL_SOURCE_DIR
+#error "HYFAL_SOURCE_DIR (the source tree, for experiments/) must be defined"
+#endif
+
+// TOML values and fragments: every type, ranges' edges, the paper's marks, broken syntax.
+const std::vector<std::string> kTomlTexts = {
+    "0", "-1", "1e999", "nan", "inf", "-inf", "9223372036854775807", "9223372036854775808", "1_000", "0x10",
+    "\"\"", "\"N/A\"", "\"X\"", "\"x\\ny\"", "'a'", "true", "[]", "[[]]", "[1, \"a\"]", "{}", "{ a = 1 }",
+    "1979-05-27", "[rows]", "[[rows]]", "[profile.smoke]", "[sweep]", "=", "\"", "[", "]", "{", "\n", "#", "a.b.c = 1"};
+
+// One edit of a TOML text: a byte-level mutation, or a line deleted, duplicated or replaced, or a
+// value or key replaced by one of kTomlTexts.
+void mutate_toml(std::string& t, Dice& d) {
+  std::vector<std::string> lines;
+  std::string line;
+  for (const char c : t) {
+    if (c == '\n') {
+      lines.push_back(line);
+      line.clear();
+    } else {
+      line += c;
+    }
+  }
+  lines.push_back(line);
+  const std::size_t i = d.below(lines.size());
+  switch (d.below(6)) {
+    case 0: mutate_bytes(t, d); return;
+    case 1: lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(i)); break;
+    case 2: lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(i), lines[d.below(lines.size())]); break;
+    case 3: {  // a value replaced
+      const auto eq = lines[i].find(" = ");
+      if (eq != std::string::npos) lines[i] = lines[i].substr(0, eq + 3) + d.pick(kTomlTexts);
+      break;
+    }
+    case 4: {  // a key renamed
+      const auto eq = lines[i].find(" = ");
+      if (eq != std::string::npos) lines[i] = d.pick(kTomlTexts) + lines[i].substr(eq);
+      break;
+    }
+    default: lines[i] = d.pick(kTomlTexts); break;
+  }
+  t.clear();
+  for (std::size_t k = 0; k < lines.size(); ++k) t += (k ? "\n" : "") + lines[k];
+}
+
+TEST(FuzzTomlFiles, MutatedTableAndExperimentFilesOnlyThrowExperimentFileErrorInOneLine) {
+  std::vector<std::pair<std::string, bool>> seeds;  // text, is a paper table
+  for (const EmbeddedFile& f : embedded_paper_table_files()) seeds.emplace_back(std::string(f.text), true);
+  {
+    std::ifstream in(fs::path(HYFAL_SOURCE_DIR) / "experiments" / "example.toml", std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    seeds.emplace_back(ss.str(), false);
+  }
+  ASSERT_GE(seeds.size(), 9u);
+  Dice d(fuzz_seed() ^ 0x70d1ULL);
+  const int n = budget(3000);
+  int rejected = 0, accepted = 0;
+  for (int i = 0; i < n && !HasFailure(); ++i) {
+    const auto& [seed, is_table] = d.pick(seeds);
+    std::string text = seed;
+    for (std::size_t k = 0, rounds = 1 + d.below(3); k < rounds; ++k) mutate_toml(text, d);
+    try {
+      if (is_table)
+        (void)load_paper_table(text, "fuzz.toml");
+      else
+        (void)load_experiment_file(text, "fuzz.toml");
+      ++accepted;
+    } catch (const ExperimentFileError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+      EXPECT_EQ(m.rfind("fuzz.toml", 0), 0u) << m;
+      ++rejected;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "threw a " << typeid(e).name() << ": " << e.what() << "\n--- input:\n" << text;
+    }
+  }
+  EXPECT_GT(rejected, 0);
+  EXPECT_GT(accepted, 0);
+  std::printf("[fuzz] %d table/experiment files: %d rejected, %d accepted\n", n, rejected, accepted);
 }
 
 }  // namespace

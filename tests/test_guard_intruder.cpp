@@ -9,6 +9,7 @@
 #include <numbers>
 #include <vector>
 
+#include "app/experiment_file.hpp"
 #include "core/options.hpp"
 #include "core/planner.hpp"
 #include "core/system.hpp"
@@ -100,10 +101,9 @@ TEST(GuardIntruder, BadInstancesAreRejected) {
 }
 
 TEST(GuardIntruder, PaperTableDeclared) {
-  const SuiteEntry* s = find_suite("guard-intruder");
-  ASSERT_NE(s, nullptr);
-  ASSERT_EQ(s->tables.size(), 1u);
-  const PaperTable& t = s->tables[0];
+  const PaperTable* table = find_builtin_paper_table("kim-table3");  // experiments/paper/kim-table3.toml
+  ASSERT_NE(table, nullptr);
+  const PaperTable& t = *table;
   EXPECT_EQ(t.id, "kim-table3");
   EXPECT_EQ(t.suite, "guard-intruder");
   ASSERT_EQ(t.columns.size(), 3u);

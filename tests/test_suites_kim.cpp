@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "app/experiment_file.hpp"
 #include "core/options.hpp"
 #include "core/system.hpp"
 #include "core/trajectory.hpp"
@@ -104,9 +105,9 @@ TEST(Linear, DynamicsSpecAndTable) {
   EXPECT_EQ(sys->inputs(0).count(), 25u);
   EXPECT_DOUBLE_EQ(sys->info().coverage.spacing, 2.0);
 
-  const auto& tables = find_suite("linear")->tables;
-  ASSERT_EQ(tables.size(), 1u);
-  const PaperTable& t = tables[0];
+  const PaperTable* table = find_builtin_paper_table("kim-fig5");  // experiments/paper/kim-fig5.toml
+  ASSERT_NE(table, nullptr);
+  const PaperTable& t = *table;
   EXPECT_EQ(t.id, "kim-fig5");
   EXPECT_EQ(t.suite, "linear");
   ASSERT_EQ(t.columns.size(), 1u);
@@ -292,9 +293,9 @@ TEST(Hovercraft, WindRegionSwitchIsLocalizedAtTheVortexEdge) {
 }
 
 TEST(Hovercraft, TablesDeclared) {
-  const auto& ht = find_suite("hovercraft")->tables;
-  ASSERT_EQ(ht.size(), 1u);
-  const PaperTable& t = ht[0];
+  const PaperTable* table = find_builtin_paper_table("kim-table2");  // experiments/paper/kim-table2.toml
+  ASSERT_NE(table, nullptr);
+  const PaperTable& t = *table;
   EXPECT_EQ(t.id, "kim-table2");
   EXPECT_EQ(t.suite, "hovercraft");
   ASSERT_EQ(t.columns.size(), 2u);
@@ -316,20 +317,20 @@ TEST(Hovercraft, TablesDeclared) {
   EXPECT_EQ(t.smoke.max_nodes, 20000);
   EXPECT_EQ(t.paper.max_nodes, 10'000'000);
 
-  const auto& tt = find_suite("thermostat")->tables;
-  ASSERT_EQ(tt.size(), 1u);
-  EXPECT_EQ(tt[0].id, "kim-table1");
-  ASSERT_EQ(tt[0].rows.size(), 3u);
+  const PaperTable* tt = find_builtin_paper_table("kim-table1");  // experiments/paper/kim-table1.toml
+  ASSERT_NE(tt, nullptr);
+  EXPECT_EQ(tt->id, "kim-table1");
+  ASSERT_EQ(tt->rows.size(), 3u);
   // Table I's t2go is Sect. III-A's (x_near only); Alg. 4 as printed is the extra row.
-  EXPECT_EQ(tt[0].rows[1].settings, (Settings{{"selection", "t2go"}, {"t2go_inputs", "false"}}));
-  EXPECT_EQ(tt[0].rows[2].settings, (Settings{{"selection", "t2go"}}));
-  EXPECT_TRUE(std::isnan(tt[0].rows[2].paper[0]));
-  EXPECT_EQ(tt[0].rows[0].paper, (std::vector<double>{2284.0, 376.4}));
-  EXPECT_EQ(tt[0].rows[1].paper, (std::vector<double>{1627.0, 231.0}));
-  EXPECT_EQ(tt[0].smoke.trials, 3);
-  EXPECT_EQ(tt[0].quick.timeout_s, 60.0);
-  EXPECT_EQ(tt[0].paper.timeout_s, 3600.0);
-  EXPECT_TRUE(find_suite("example31")->tables.empty());
+  EXPECT_EQ(tt->rows[1].settings, (Settings{{"selection", "t2go"}, {"t2go_inputs", "false"}}));
+  EXPECT_EQ(tt->rows[2].settings, (Settings{{"selection", "t2go"}}));
+  EXPECT_TRUE(std::isnan(tt->rows[2].paper[0]));
+  EXPECT_EQ(tt->rows[0].paper, (std::vector<double>{2284.0, 376.4}));
+  EXPECT_EQ(tt->rows[1].paper, (std::vector<double>{1627.0, 231.0}));
+  EXPECT_EQ(tt->smoke.trials, 3);
+  EXPECT_EQ(tt->quick.timeout_s, 60.0);
+  EXPECT_EQ(tt->paper.timeout_s, 3600.0);
+  for (const PaperTable& table : builtin_paper_tables()) EXPECT_NE(table.suite, "example31") << table.id;
 }
 
 TEST(Hovercraft, RrtFalsifiesThroughTheVortexEdgeAndWitnessValidates) {

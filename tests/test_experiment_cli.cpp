@@ -1,0 +1,249 @@
+// Tables and experiments as TOML files, end to end through the binary: `hyfal reproduce` of a
+// table file given by its path, `hyfal run` of an experiment file, and bad files refused with
+// exit 2, one line naming the file, the line and the key, and nothing written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+
+#ifndef HYFAL_SOURCE_DIR
+#error "HYFAL_SOURCE_DIR (the source tree, for experiments/) must be defined"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hyfal_cli_test;
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+class ExperimentCliTest : public HyfalBinaryTest {
+ protected:
+  ExperimentCliTest() : HyfalBinaryTest("experiment") {}
+};
+
+// Every file and folder under root, with the content of the files.
+std::map<std::string, std::string> snapshot(const fs::path& root) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::recursive_directory_iterator(root))
+    m[fs::relative(e.path(), root).string()] = e.is_directory() ? "<dir>" : read_text(e.path());
+  return m;
+}
+
+const char* const kTable = R"(# A two-row table of our own: a new table is one file.
+id = "my-table"
+title = "RRT vs enhanced RRT on the thermostat"
+source = "ours"
+suite = "thermostat"
+columns = [{ name = "nodes", metric = "nodes" }, { name = "falsified", metric = "falsified_rate" }]
+
+[[rows]]
+label = "RRT"
+method = "rrt"
+paper = ["N/A", 1.0]
+
+[[rows]]
+label = "Enhanced"
+method = "enhanced-rrt"
+settings = { selection = "t2go" }
+paper = ["N/A", 1]
+
+[profile.smoke]
+trials = 2
+timeout_s = 20.0
+max_nodes = 20_000
+[profile.quick]
+trials = 3
+timeout_s = 20.0
+max_nodes = 20_000
+[profile.paper]
+trials = 10
+timeout_s = 60.0
+max_nodes = 1_000_000
+)";
+
+TEST_F(ExperimentCliTest, ReproduceReadsATableFileGivenByItsPath) {
+  write_text(work() / "tables" / "my-table.toml", kTable);
+  const Result r = hyfal({"reproduce", "tables/my-table.toml", "--profile", "smoke", "--threads", "2", "--db",
+                          "db.sqlite", "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "# my-table: RRT vs enhanced RRT on the thermostat")) << r;
+  EXPECT_TRUE(fs::exists(work() / "out" / "my-table.md"));
+  EXPECT_TRUE(fs::exists(work() / "out" / "my-table.csv"));
+  const SqlResult rows = sql(work() / "db.sqlite", "SELECT experiment, method, count(*) FROM trials GROUP BY 1, 2 ORDER BY 2");
+  ASSERT_TRUE(rows.ok) << rows.text;
+  EXPECT_EQ(rows.text, "my-table/smoke|enhanced-rrt|2\nmy-table/smoke|rrt|2\n");
+}
+
+// `hyfal list` shows the tables compiled in: one per committed file, wherever it runs.
+TEST_F(ExperimentCliTest, ListShowsEveryCommittedTableFile) {
+  const Result r = hyfal({"list"});
+  ASSERT_EQ(r.code, 0) << r;
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(HYFAL_SOURCE_DIR) / "experiments" / "paper")) {
+    if (e.path().extension() != ".toml") continue;
+    ++files;
+    EXPECT_TRUE(contains(r.out, "  " + e.path().stem().string() + " ")) << e.path() << "\n" << r.out;
+  }
+  EXPECT_EQ(files, 8u);
+}
+
+struct BadFileCase {
+  std::string name;
+  std::string from, to;      // the edit of kTable
+  std::string where, key;    // the message names "FILE:LINE:" and the key
+};
+
+void PrintTo(const BadFileCase& c, std::ostream* os) { *os << c.name; }
+
+class BadTableFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
+
+// Writes `base` edited as the case says to work()/bad.toml, runs hyfal with `args` and checks that
+// it exits 2 with one line naming bad.toml, the line and the key, and writes nothing.
+void expect_refused(const fs::path& work, const BadFileCase& c, const std::string& base,
+                    const Args& args, const std::function<Result(const Args&)>& hyfal) {
+  std::string text = base;
+  const auto at = text.find(c.from);
+  ASSERT_NE(at, std::string::npos) << c.from;
+  text.replace(at, c.from.size(), c.to);
+  write_text(work / "bad.toml", text);
+  const auto before = snapshot(work);
+  const Result r = hyfal(args);
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_EQ(r.err.rfind("hyfal: error: bad.toml:" + c.where, 0), 0u) << r;
+  if (!c.key.empty()) {
+    EXPECT_TRUE(contains(r.err, ": " + c.key + ": ")) << r;
+  }
+  EXPECT_EQ(r.out, "") << r;
+  EXPECT_EQ(snapshot(work), before) << "a bad file writes nothing\n" << r;
+}
+
+TEST_P(BadTableFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
+  expect_refused(work(), GetParam(), kTable,
+                 {"reproduce", "bad.toml", "--profile", "smoke", "--db", "out/db.sqlite", "--witness-dir", "out/wit",
+                  "--out-dir", "out/tables"},
+                 [this](const Args& a) { return hyfal(a); });
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ExperimentCli, BadTableFile,
+    ::testing::Values(BadFileCase{"SyntaxError", "label = \"RRT\"", "label = RRT", "9:", ""},
+                      BadFileCase{"UnknownKey", "method = \"rrt\"", "method = \"rrt\"\nsetings = {}", "11:", "rows[0].setings"},
+                      BadFileCase{"WrongType", "trials = 2", "trials = 2.5", "20:", "profile.smoke.trials"},
+                      BadFileCase{"BadMethodName", "method = \"rrt\"", "method = \"rtt\"", "10:", "rows[0].method"},
+                      BadFileCase{"BadSettingValue", "selection = \"t2go\"", "selection = \"fastest\"", "16:",
+                                  "rows[1].settings.selection"}),
+    [](const ::testing::TestParamInfo<BadFileCase>& info) { return info.param.name; });
+
+TEST_F(ExperimentCliTest, MissingTableFileAndUnknownIdExitTwo) {
+  for (const Args& args : {Args{"reproduce", "nowhere/table.toml", "--profile", "smoke"},
+                           Args{"reproduce", "no-such-table", "--profile", "smoke"}}) {
+    const Result r = hyfal(args);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  }
+  EXPECT_TRUE(fs::is_empty(work()));
+}
+
+// --- experiment files -------------------------------------------------------------------------
+
+const fs::path kExample = fs::path(HYFAL_SOURCE_DIR) / "experiments" / "example.toml";
+
+// The committed example runs end to end, stores its trials as `hyfal run` with flags would (same
+// keys: a flags run of one of its groups finds every trial stored) and resumes.
+TEST_F(ExperimentCliTest, ExampleExperimentRunsStoresAndResumes) {
+  fs::copy_file(kExample, work() / "example.toml");
+  const Args args = {"run", "example.toml", "--threads", "2", "--db", "db.sqlite", "--witness-dir", "wit", "--out-dir", "out"};
+  const Result r = hyfal(args);
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "# example")) << r;
+  EXPECT_TRUE(contains(r.out, "| nodes_mean | thermostat, step=0.1 | thermostat, step=0.2 | linear, step=default |")) << r;
+  EXPECT_TRUE(contains(r.err, "18 trials (18 run now)")) << r;
+  const std::string md = read_text(work() / "out" / "example.md"), csv = read_text(work() / "out" / "example.csv");
+  EXPECT_EQ(md, r.out);
+  EXPECT_EQ(lines(csv).size(), 1u + 6u) << csv;  // header + one line per group
+  EXPECT_EQ(csv.rfind("block,row,column,suite,", 0), 0u) << csv;
+  const SqlResult count = sql(work() / "db.sqlite", "SELECT experiment, count(*) FROM trials GROUP BY 1");
+  ASSERT_TRUE(count.ok) << count.text;
+  EXPECT_EQ(count.text, "example|18\n");
+
+  const Result again = hyfal(args);
+  ASSERT_EQ(again.code, 0) << again;
+  EXPECT_TRUE(contains(again.err, "resuming: 18 of 18 trials already stored")) << again;
+  EXPECT_TRUE(contains(again.err, "18 trials (0 run now)")) << again;
+  EXPECT_EQ(read_text(work() / "out" / "example.csv"), csv) << "the same trials give the same table";
+
+  const Result flags = hyfal({"run", "--suite", "thermostat", "--method", "enhanced-rrt", "--set", "step=0.2", "--set",
+                              "history=tree", "--trials", "3", "--timeout", "20", "--max-nodes", "5000", "--seed", "1",
+                              "--experiment", "example", "--db", "db.sqlite", "--witness-dir", "wit"});
+  ASSERT_EQ(flags.code, 0) << flags;
+  EXPECT_TRUE(contains(flags.out, "3 trials (0 run now)")) << flags;
+}
+
+TEST_F(ExperimentCliTest, ExperimentPlanRunsNothingAndWritesNothing) {
+  fs::copy_file(kExample, work() / "example.toml");
+  const auto before = snapshot(work());
+  const Result r = hyfal({"run", "example.toml", "--plan", "--db", "db.sqlite", "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "plan for experiment example")) << r;
+  EXPECT_TRUE(contains(r.out, "6 trial group(s), 18 trials")) << r;
+  EXPECT_EQ(snapshot(work()), before);
+}
+
+const char* const kExperiment = R"(name = "mine"
+trials = 2
+timeout_s = 10.0
+max_nodes = 2000
+
+[[suites]]
+name = "thermostat"
+settings = { step = [0.1, 0.2] }
+
+[[methods]]
+name = "rrt"
+
+[table]
+rows = ["method"]
+columns = ["step"]
+)";
+
+class BadExperimentFile : public ExperimentCliTest, public ::testing::WithParamInterface<BadFileCase> {};
+
+TEST_P(BadExperimentFile, ExitsTwoWithOneLineNamingFileLineAndKeyAndWritesNothing) {
+  expect_refused(work(), GetParam(), kExperiment,
+                 {"run", "bad.toml", "--db", "out/db.sqlite", "--witness-dir", "out/wit", "--out-dir", "out/tables"},
+                 [this](const Args& a) { return hyfal(a); });
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ExperimentCli, BadExperimentFile,
+    ::testing::Values(BadFileCase{"SyntaxError", "trials = 2", "trials = = 2", "2:", ""},
+                      BadFileCase{"UnknownKey", "max_nodes = 2000", "max_nodes = 2000\ntimout_s = 3", "5:", "timout_s"},
+                      BadFileCase{"WrongType", "timeout_s = 10.0", "timeout_s = \"ten\"", "3:", "timeout_s"},
+                      BadFileCase{"BadMethodName", "name = \"rrt\"", "name = \"rrt-star\"", "11:", "methods[0].name"},
+                      BadFileCase{"BadSettingInList", "step = [0.1, 0.2]", "step = [0.1, -2]", "8:",
+                                  "suites[0].settings.step[1]"},
+                      BadFileCase{"UnknownDimension", "columns = [\"step\"]", "columns = [\"stp\"]", "15:",
+                                  "table.columns[0]"},
+                      BadFileCase{"BadExperimentName", "name = \"mine\"", "name = \"../mine\"", "1:", "name"}),
+    [](const ::testing::TestParamInfo<BadFileCase>& info) { return info.param.name; });
+
+TEST_F(ExperimentCliTest, AFileAndRunFlagsTogetherExitTwo) {
+  write_text(work() / "mine.toml", kExperiment);
+  const auto before = snapshot(work());
+  for (const Args& args : {Args{"run", "mine.toml", "--trials", "5"}, Args{"run", "mine.toml", "--suite", "linear"},
+                           Args{"run", "--suite", "thermostat", "--out-dir", "x"}}) {
+    const Result r = hyfal(args);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  }
+  EXPECT_EQ(snapshot(work()), before);
+}
+
+}  // namespace
