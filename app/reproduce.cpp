@@ -152,9 +152,14 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
   std::vector<std::vector<std::vector<std::vector<TrialRecord>>>> trials(
       blocks, std::vector<std::vector<std::vector<TrialRecord>>>(table.rows.size(),
                                                                  std::vector<std::vector<TrialRecord>>(cols)));
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const Cell& cell = cells[order[k]];
-    trials[cell.b][cell.row][cell.col] = run_info->trials[k];
+  // A cell holds one group per instance: append, in instance order.
+  std::vector<std::size_t> position(cells.size());
+  for (std::size_t k = 0; k < order.size(); ++k) position[order[k]] = k;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const Cell& cell = cells[i];
+    auto& into = trials[cell.b][cell.row][cell.col];
+    const auto& from = run_info->trials[position[i]];
+    into.insert(into.end(), from.begin(), from.end());
   }
   SweepReport report = make_sweep_report(table, trials, static_cast<int>(run));
   if (report.suite.empty()) report.suite = suite->name;

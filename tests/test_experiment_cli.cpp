@@ -80,6 +80,59 @@ TEST_F(ExperimentCliTest, ReproduceReadsATableFileGivenByItsPath) {
   EXPECT_EQ(rows.text, "my-table/smoke|enhanced-rrt|2\nmy-table/smoke|rrt|2\n");
 }
 
+// A sweep table whose cells hold several instances (properties): every cell reports all of
+// them (n = instances), in the Markdown and in the CSV.
+TEST_F(ExperimentCliTest, ASweepCellReportsEveryInstanceOfIt) {
+  write_text(work() / "sweep.toml", R"(id = "my-sweep"
+title = "HyDICE on small mazes"
+source = "ours"
+suite = "navigation"
+[[rows]]
+label = "HyDICE"
+method = "hydice"
+[sweep]
+instance_key = "property"
+paper_timeout_s = 10.0
+columns = [{ label = "1²", settings = { n = 1 } }, { label = "2²", settings = { n = 2 } }]
+paper = [[[0.4, 0.4]]]
+[profile.smoke]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+instances = 3
+columns = -1
+[profile.quick]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+[profile.paper]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+)");
+  const Result r = hyfal({"reproduce", "sweep.toml", "--profile", "smoke", "--threads", "2", "--db", "db.sqlite",
+                          "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  const std::string csv = read_text(work() / "out" / "my-sweep.csv");
+  EXPECT_TRUE(contains(csv, ",HyDICE,hydice,1²,0.4,")) << csv;
+  int cells = 0;
+  for (std::size_t at = csv.find('\n'); at != std::string::npos && at + 1 < csv.size(); at = csv.find('\n', at + 1)) {
+    const std::string line = csv.substr(at + 1, csv.find('\n', at + 1) - at - 1);
+    // table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,...
+    std::vector<std::string> f;
+    for (std::size_t b = 0, e; b <= line.size(); b = e + 1) {
+      e = line.find(',', b);
+      if (e == std::string::npos) e = line.size();
+      f.push_back(line.substr(b, e - b));
+    }
+    ASSERT_GE(f.size(), 11u) << line;
+    EXPECT_EQ(f[9], "3") << line;   // n: the cell's three properties
+    EXPECT_EQ(f[10], "3") << line;  // all falsified
+    ++cells;
+  }
+  EXPECT_EQ(cells, 2);
+}
+
 // `hyfal list` shows the tables compiled in: one per committed file, wherever it runs.
 TEST_F(ExperimentCliTest, ListShowsEveryCommittedTableFile) {
   const Result r = hyfal({"list"});
