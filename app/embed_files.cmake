@@ -1,8 +1,13 @@
-# Writes OUT, a C++ source holding the text of every experiments/paper/*.toml under DIR, so that
+# Writes OUT, a C++ source holding the text of every experiments/paper/*.toml under DIR (and
+# experiments/ompl/*.toml when WITH_OMPL), so that
 # the hyfal binary finds its paper tables from any directory (run by app/CMakeLists.txt at build
 # time, again whenever a table file changes). Each byte is written as a \x escape: any text
 # survives, whatever quotes or backslashes it holds.
 file(GLOB files RELATIVE "${DIR}" "${DIR}/experiments/paper/*.toml")
+if(WITH_OMPL)  # tables whose methods need OMPL
+  file(GLOB ompl_files RELATIVE "${DIR}" "${DIR}/experiments/ompl/*.toml")
+  list(APPEND files ${ompl_files})
+endif()
 list(SORT files)
 set(entries "")
 foreach(f IN LISTS files)

@@ -630,7 +630,9 @@ const std::vector<PaperTable>& builtin_paper_tables() {
     std::vector<PaperTable> v;
     for (const EmbeddedFile& f : embedded_paper_table_files()) {
       PaperTable t = load_paper_table(f.text, std::string(f.path));
-      const std::string expected = "experiments/paper/" + t.id + ".toml";
+      const std::string_view path = f.path;
+      const std::string folder(path.substr(0, path.rfind('/') + 1));  // experiments/paper/ or experiments/ompl/
+      const std::string expected = folder + t.id + ".toml";
       if (f.path != expected)
         throw ExperimentFileError(fmt::format("{}: id: '{}' must be the file's name ({})", f.path, t.id, expected));
       v.push_back(std::move(t));
