@@ -32,6 +32,7 @@ import os
 import subprocess
 import sys
 
+sys.dont_write_bytecode = True  # importing plot_tables must leave no __pycache__ in scripts/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_tables  # noqa: E402  (the shared figure set-up, save_figure and error handling)
 from plot_tables import EXIT_ENVIRONMENT, InputError, MissingMatplotlib, OneLineParser  # noqa: E402
