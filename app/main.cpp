@@ -516,7 +516,10 @@ int run_command(int argc, char** argv) {
     if (*instance_export) return cmd_instance_export(xsuite, xsets);
     if (*reproduce) return cli::cmd_reproduce(pa);
     if (*merge) return cli::cmd_merge(ma);
-    if (*plot) return cli::cmd_plot(plot_args);
+    if (*plot) {
+      plot_args.out_given = plot->get_option("--out")->count() > 0;
+      return cli::cmd_plot(plot_args);
+    }
   } catch (const UsageError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;

@@ -141,7 +141,7 @@ int cmd_plot(const PlotArgs& a) {
     } catch (const WitnessError& e) {
       throw UsageError(one_line(fmt::format("--witness '{}': {}", a.witness, e.what())));
     }
-    if (out.empty()) out = fs::path(a.witness).replace_extension(".png").string();
+    if (!a.out_given) out = fs::path(a.witness).replace_extension(".png").string();
     check_output_path(out, "--out");
     if (fs::path(out).extension() != ".png" || fs::path(out).stem().empty())
       throw UsageError(fmt::format("--out '{}': expected a file name ending in .png (the .svg goes beside it)", out));
@@ -152,7 +152,7 @@ int cmd_plot(const PlotArgs& a) {
     std::error_code ec;
     if (!fs::is_directory(a.tables_dir, ec))
       throw UsageError(fmt::format("tables folder '{}': no such folder", a.tables_dir));
-    if (!out.empty()) {
+    if (a.out_given) {
       check_output_path(out, "--out");
       check_directory_creatable(out, "--out");
     }

@@ -9,7 +9,8 @@ namespace hyfal::cli {
 struct PlotArgs {
   std::string tables_dir;  // hyfal plot TABLES_DIR: every figure of the CSVs there
   std::string witness;     // hyfal plot --witness FILE: a picture of one witness
-  std::string out;         // a folder (tables) or F.png (witness; F.svg beside it); empty: default
+  std::string out;         // a folder (tables) or F.png (witness; F.svg beside it)
+  bool out_given = false;  // --out was given (else the default: TABLES_DIR, the witness's path)
 };
 
 // Checks the arguments (UsageError: one line, exit 2, nothing written), then runs the script
