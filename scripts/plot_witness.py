@@ -220,12 +220,18 @@ def draw_aircraft(witness, scene):
     final_x = witness["final"]["x"]
     pair = closest_flying_pair(final_x, int(witness["final"]["mode"]), count)
     fig, (ax, zoom) = plt.subplots(1, 2, figsize=(12, 6), gridspec_kw={"width_ratios": [3, 2]})
+    in_conflict = pair[:2] if pair else ()
     for i, plane in enumerate(scene["aircraft"]):
         colour = plot_tables.row_colour(i)
         xs, ys = path_of(witness, 5 * i, 5 * i + 1)
+        # Ten colours: with more aircraft the legend names only the pair in conflict (drawn thick).
+        label = f"aircraft {i}" if count <= 10 or i in in_conflict else None
         for a in (ax, zoom):
-            a.plot(xs, ys, color=colour, linewidth=1.3, label=f"aircraft {i}" if a is ax else None)
+            a.plot(xs, ys, color=colour, linewidth=2.2 if i in in_conflict else 1.1,
+                   label=label if a is ax else None)
             a.plot(xs[-1], ys[-1], "o", color=colour, markersize=4)
+        zoom.annotate(str(i), (xs[-1], ys[-1]), textcoords="offset points", xytext=(6, 6),
+                      color=colour, fontsize=9, annotation_clip=True)
         ax.plot(*plane["start"], "s", color=colour, markersize=5)
         ax.plot(*plane["goal"], "*", color=colour, markersize=9)
     ax.plot([], [], "s", color="grey", label="start")
