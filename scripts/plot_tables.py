@@ -480,13 +480,30 @@ def make_out_dir(out_dir):
         raise InputError(f"{out_dir}: cannot create: {e}") from e
 
 
+def report(prog, draw):
+    """Runs draw() (the paths it wrote), prints them and returns 0; bad input: one line on stderr,
+    exit 2; matplotlib missing: one line saying what to install, exit 3."""
+    try:
+        written = draw()
+    except InputError as e:
+        sys.stderr.write(f"{prog}: {e}\n")
+        return 2
+    except MissingMatplotlib as e:
+        sys.stderr.write(f"{prog}: {e}\n")
+        return EXIT_ENVIRONMENT
+    for w in written:
+        print(w)
+    return 0
+
+
 def main(argv):
     parser = OneLineParser(prog="plot_tables.py", description="Figures from hyfal reproduce's CSV tables.")
     parser.add_argument("tables_dir", help="folder with <id>.csv and <id>-<series>.csv")
     parser.add_argument("--out", help="folder for the PNG and SVG files (default: tables_dir)")
     parser.add_argument("--only", metavar="ID", help="only the figures of table ID (ID.csv, ID-*.csv)")
     args = parser.parse_args(argv)
-    try:
+
+    def draw():
         if not os.path.isdir(args.tables_dir):
             raise InputError(f"{args.tables_dir}: no such folder")
         jobs = figure_jobs(args.tables_dir, args.only)
@@ -497,16 +514,9 @@ def main(argv):
             make_out_dir(out_dir)
             for path, plot in jobs:
                 written += plot(path, out_dir)
-    except InputError as e:
-        sys.stderr.write(f"plot_tables.py: {e}\n")
-        return 2
-    except MissingMatplotlib as e:
-        sys.stderr.write(f"plot_tables.py: {e}\n")
-        return EXIT_ENVIRONMENT
-    for w in written:
-        print(w)
-    return 0
+        return written
 
+    return report("plot_tables.py", draw)
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

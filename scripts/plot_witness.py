@@ -35,7 +35,7 @@ import sys
 sys.dont_write_bytecode = True  # importing plot_tables must leave no __pycache__ in scripts/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_tables  # noqa: E402  (the shared figure set-up, save_figure and error handling)
-from plot_tables import EXIT_ENVIRONMENT, InputError, MissingMatplotlib, OneLineParser  # noqa: E402
+from plot_tables import InputError, OneLineParser  # noqa: E402
 
 # seed 003 Sect. 6.2: the blimp's goal (150, -150, -10), reached within 20 m (suites/blimp.cpp);
 # the export of a blimp instance does not carry it (it is a constant of the suite, not a setting).
@@ -333,7 +333,8 @@ def main(argv):
                                       "default: the witness's path with .png")
     args = parser.parse_args(argv)
     out = args.out or os.path.splitext(args.witness)[0] + ".png"
-    try:
+
+    def draw_witness():
         if not out.endswith(".png"):
             raise InputError(f"--out {out}: expected a path ending in .png")
         witness = read_witness(args.witness)
@@ -341,17 +342,9 @@ def main(argv):
         fig = draw(witness, args.hyfal)
         out_dir = os.path.dirname(out) or "."
         plot_tables.make_out_dir(out_dir)
-        written = plot_tables.save_figure(fig, out_dir, os.path.basename(out)[:-len(".png")])
-    except InputError as e:
-        sys.stderr.write(f"plot_witness.py: {e}\n")
-        return 2
-    except MissingMatplotlib as e:
-        sys.stderr.write(f"plot_witness.py: {e}\n")
-        return EXIT_ENVIRONMENT
-    for w in written:
-        print(w)
-    return 0
+        return plot_tables.save_figure(fig, out_dir, os.path.basename(out)[:-len(".png")])
 
+    return plot_tables.report("plot_witness.py", draw_witness)
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

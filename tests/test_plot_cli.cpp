@@ -25,8 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace hyfal_cli_test;
 
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
 bool have_matplotlib() {
   static const bool have = std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0;
   return have;
@@ -42,15 +40,6 @@ bool figures_ok(const fs::path& dir, std::vector<std::string> names) {
     cmd += quote(arg);
   }
   return std::system(cmd.c_str()) == 0;
-}
-
-std::vector<fs::path> files_under(const fs::path& root) {
-  std::vector<fs::path> v;
-  if (!fs::exists(root)) return v;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    if (e.is_regular_file()) v.push_back(e.path());
-  std::sort(v.begin(), v.end());
-  return v;
 }
 
 // HYFAL_PYTHON for the children of this test only.
