@@ -1,4 +1,4 @@
-// hyfal — command-line front end: list, run, table, validate, reproduce.
+// hyfal — command-line front end: list, run, table, validate, reproduce, instance, merge, plot.
 // Every bad input gives one line on stderr and exit code 2, before anything is written.
 #include <unistd.h>
 
@@ -17,6 +17,7 @@
 #include "app/experiment_file.hpp"
 #include "app/merge.hpp"
 #include "app/plan.hpp"
+#include "app/plot.hpp"
 #include "app/reproduce.hpp"
 #include "app/runner.hpp"
 #include "core/options.hpp"
@@ -455,6 +456,16 @@ int run_command(int argc, char** argv) {
   instance_export->add_option("--suite", xsuite, "suite name")->required();
   instance_export->add_option("--set", xsets, "instance parameter, key=value (repeatable)");
 
+  cli::PlotArgs plot_args;
+  auto* plot = app.add_subcommand(
+      "plot", "figures (PNG and SVG, Debian's python3-matplotlib): of the tables 'reproduce' wrote, or of one witness");
+  plot->add_option("tables_dir", plot_args.tables_dir, "a folder of tables from 'hyfal reproduce' (ID.csv, ID-SERIES.csv)");
+  plot->add_option("--witness", plot_args.witness,
+                   "a witness JSON file: its path (navigation: over the maze; aircraft: the conflict; blimp: the tower)");
+  plot->add_option("--out", plot_args.out,
+                   "tables: the folder for the figures (default TABLES_DIR); witness: F.png, F.svg beside it "
+                   "(default: the witness's path with .png)");
+
   std::string vfile;
   auto* validate = app.add_subcommand("validate", "re-simulate a witness JSON file with a tight integrator and check it");
   validate->add_option("file", vfile, "witness JSON file")->required();
@@ -464,7 +475,7 @@ int run_command(int argc, char** argv) {
     bool known = false;
     for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) known = known || sub->get_name() == cmd;
     if (!known) {
-      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance, merge; see 'hyfal --help')\n", cmd);
+      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance, merge, plot; see 'hyfal --help')\n", cmd);
       return 2;
     }
   }
@@ -505,6 +516,10 @@ int run_command(int argc, char** argv) {
     if (*instance_export) return cmd_instance_export(xsuite, xsets);
     if (*reproduce) return cli::cmd_reproduce(pa);
     if (*merge) return cli::cmd_merge(ma);
+    if (*plot) {
+      plot_args.out_given = plot->get_option("--out")->count() > 0;
+      return cli::cmd_plot(plot_args);
+    }
   } catch (const UsageError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "app/experiment_file.hpp"
+#include "app/plot.hpp"
 #include "results/paper_report.hpp"
 #include "results/sweep_report.hpp"
 #include "results/text_format.hpp"
@@ -171,6 +172,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
   std::cout << markdown << std::flush;
   fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info->total,
              run_info->run_now, (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
+  write_table_figures(a.out_dir, table.id);
   print_shard_note(a);
   return run_info->errors ? 1 : 0;
 }
@@ -253,6 +255,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
   std::cout << markdown << std::flush;
   fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info->total,
              run_info->run_now, (out_dir / (table->id + ".md")).string(), (out_dir / (table->id + ".csv")).string(), a.db);
+  write_table_figures(a.out_dir, table->id);
   print_shard_note(a);
   return run_info->errors ? 1 : 0;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Figures from the CSV files `hyfal reproduce` writes into a tables folder.
 
-Usage: /usr/bin/python3 scripts/plot_tables.py TABLES_DIR [--out DIR]
+Usage: /usr/bin/python3 scripts/plot_tables.py TABLES_DIR [--out DIR] [--only ID]
 
 Reads <id>.csv (a paper table: one line per cell) and <id>-<series>.csv (per-trial series:
 row,trial_index,x,y) and writes <figure>.png and <figure>.svg into DIR (default TABLES_DIR):
@@ -15,9 +15,11 @@ row,trial_index,x,y) and writes <figure>.png and <figure>.svg into DIR (default 
   plaku-table1.csv                       seed 002 Table 1 as a figure: time against |Q|, per driver
   plaku-table2.csv                       seed 002 Table 2 as a figure: time against N aircraft
 
-Only the figures whose CSVs exist are made; other files are ignored. The output is byte-for-byte
+Only the figures whose CSVs exist are made (with --only ID: only table ID's); other files are
+ignored. The output is byte-for-byte
 deterministic (no dates or versions in the files), so committed figures only change with the data.
-Bad input (missing folder, unreadable CSV): one line on stderr, exit 2.
+Bad input (missing folder, unreadable CSV): one line on stderr, exit 2. matplotlib missing: one
+line saying what to install, exit 3 (matplotlib is imported only when there is a figure to draw).
 
 Runs with Debian's Python and python3-matplotlib (scripts/setup.sh installs it), not a venv.
 """
@@ -30,18 +32,12 @@ import re
 import sys
 from collections import OrderedDict
 
-import matplotlib
+# matplotlib.pyplot, set by load_matplotlib() only when there is something to draw: finding no
+# figure for a table (hyfal reproduce calls this script for every table) costs no import.
+plt = None
 
-matplotlib.use("Agg")  # files only: no display on CI machines
-import matplotlib.pyplot as plt  # noqa: E402
-
-# SVG element ids are hashes salted with a random value unless fixed; fix it for reproducible files.
-matplotlib.rcParams["svg.hashsalt"] = "hyfal"
-matplotlib.rcParams["figure.dpi"] = 100
-matplotlib.rcParams["savefig.dpi"] = 100
-matplotlib.rcParams["font.size"] = 10
-matplotlib.rcParams["axes.grid"] = True
-matplotlib.rcParams["grid.alpha"] = 0.3
+# Exit code when matplotlib is missing: the environment failed, not the input (hyfal's exit 3).
+EXIT_ENVIRONMENT = 3
 
 SERIES_COLUMNS = ("row", "trial_index", "x", "y")
 # The paper's timeout for seed 002's tables (its "X" cells): 3600 s, as the tables' notes say.
@@ -56,6 +52,34 @@ T_975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
 
 class InputError(Exception):
     """Bad input: reported as one line on stderr, exit 2."""
+
+
+class MissingMatplotlib(Exception):
+    """matplotlib cannot be imported: one line saying what to install, exit 3."""
+
+
+def load_matplotlib():
+    """Imports matplotlib (Agg, deterministic output) into the global plt; MissingMatplotlib if absent."""
+    global plt
+    if plt is not None:
+        return plt
+    try:
+        import matplotlib
+    except ImportError as e:
+        raise MissingMatplotlib(
+            f"matplotlib is not installed for {sys.executable}: install the Debian package "
+            "python3-matplotlib (scripts/setup.sh does)") from e
+    matplotlib.use("Agg")  # files only: no display on CI machines
+    import matplotlib.pyplot as pyplot
+    # SVG element ids are hashes salted with a random value unless fixed; fix it for reproducible files.
+    matplotlib.rcParams["svg.hashsalt"] = "hyfal"
+    matplotlib.rcParams["figure.dpi"] = 100
+    matplotlib.rcParams["savefig.dpi"] = 100
+    matplotlib.rcParams["font.size"] = 10
+    matplotlib.rcParams["axes.grid"] = True
+    matplotlib.rcParams["grid.alpha"] = 0.3
+    plt = pyplot
+    return plt
 
 
 # ---------------------------------------------------------------------------------------------
@@ -419,8 +443,9 @@ def plot_plaku_table2(path, out_dir):
 # Driver
 
 
-def figure_jobs(tables_dir):
-    """(csv path, plotting function) for every known CSV present in tables_dir, sorted by name."""
+def figure_jobs(tables_dir, only=None):
+    """(csv path, plotting function) for every known CSV present in tables_dir, sorted by name;
+    with only = ID, just table ID's (ID.csv and ID-<series>.csv)."""
     fixed = {
         "kim-fig5-coverage.csv": plot_kim_fig5_coverage,
         "kim-fig5-failed_extensions_sorted.csv": plot_kim_fig6_failed_extensions,
@@ -431,6 +456,8 @@ def figure_jobs(tables_dir):
     esposito = re.compile(r"esposito-([A-Za-z0-9_]+)-(dispersion|coverage-tree0|growth-tree0)\.csv")
     jobs = []
     for name in sorted(os.listdir(tables_dir)):
+        if only is not None and name != only + ".csv" and not name.startswith(only + "-"):
+            continue
         path = os.path.join(tables_dir, name)
         if name in fixed:
             jobs.append((path, fixed[name]))
@@ -442,33 +469,54 @@ def figure_jobs(tables_dir):
 
 class OneLineParser(argparse.ArgumentParser):
     def error(self, message):  # one line on stderr, exit 2 (argparse prints the usage too)
-        sys.stderr.write(f"plot_tables.py: {message}\n")
+        sys.stderr.write(f"{self.prog}: {message}\n")
         sys.exit(2)
 
 
-def main(argv):
-    parser = OneLineParser(description="Figures from hyfal reproduce's CSV tables.")
-    parser.add_argument("tables_dir", help="folder with <id>.csv and <id>-<series>.csv")
-    parser.add_argument("--out", help="folder for the PNG and SVG files (default: tables_dir)")
-    args = parser.parse_args(argv)
+def make_out_dir(out_dir):
     try:
-        if not os.path.isdir(args.tables_dir):
-            raise InputError(f"{args.tables_dir}: no such folder")
-        out_dir = args.out or args.tables_dir
-        try:
-            os.makedirs(out_dir, exist_ok=True)
-        except OSError as e:
-            raise InputError(f"{out_dir}: cannot create: {e}") from e
-        written = []
-        for path, plot in figure_jobs(args.tables_dir):
-            written += plot(path, out_dir)
+        os.makedirs(out_dir, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"{out_dir}: cannot create: {e}") from e
+
+
+def report(prog, draw):
+    """Runs draw() (the paths it wrote), prints them and returns 0; bad input: one line on stderr,
+    exit 2; matplotlib missing: one line saying what to install, exit 3."""
+    try:
+        written = draw()
     except InputError as e:
-        sys.stderr.write(f"plot_tables.py: {e}\n")
+        sys.stderr.write(f"{prog}: {e}\n")
         return 2
+    except MissingMatplotlib as e:
+        sys.stderr.write(f"{prog}: {e}\n")
+        return EXIT_ENVIRONMENT
     for w in written:
         print(w)
     return 0
 
+
+def main(argv):
+    parser = OneLineParser(prog="plot_tables.py", description="Figures from hyfal reproduce's CSV tables.")
+    parser.add_argument("tables_dir", help="folder with <id>.csv and <id>-<series>.csv")
+    parser.add_argument("--out", help="folder for the PNG and SVG files (default: tables_dir)")
+    parser.add_argument("--only", metavar="ID", help="only the figures of table ID (ID.csv, ID-*.csv)")
+    args = parser.parse_args(argv)
+
+    def draw():
+        if not os.path.isdir(args.tables_dir):
+            raise InputError(f"{args.tables_dir}: no such folder")
+        jobs = figure_jobs(args.tables_dir, args.only)
+        written = []
+        if jobs:
+            load_matplotlib()
+            out_dir = args.out or args.tables_dir
+            make_out_dir(out_dir)
+            for path, plot in jobs:
+                written += plot(path, out_dir)
+        return written
+
+    return report("plot_tables.py", draw)
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <iostream>
@@ -64,6 +65,18 @@ inline std::vector<std::string> split(const std::string& s, char sep) {
   }
   parts.push_back(cur);
   return parts;
+}
+
+inline bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+
+// The regular files under root (none if it does not exist), sorted: what a command created.
+inline std::vector<fs::path> files_under(const fs::path& root) {
+  std::vector<fs::path> v;
+  if (!fs::exists(root)) return v;
+  for (const auto& e : fs::recursive_directory_iterator(root))
+    if (e.is_regular_file()) v.push_back(e.path());
+  std::sort(v.begin(), v.end());
+  return v;
 }
 
 // Lines of a text, without the empty piece after a final newline.

@@ -130,8 +130,6 @@ std::string thermostat_row(const std::string& md) {
   return "";
 }
 
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
 // A real witness: one falsifying trial run in dir; returns the witness' path (empty on failure).
 fs::path make_witness_at(const fs::path& dir, const fs::path& io_dir) {
   fs::create_directories(dir);

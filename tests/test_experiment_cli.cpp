@@ -20,8 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace hyfal_cli_test;
 
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
 class ExperimentCliTest : public HyfalBinaryTest {
  protected:
   ExperimentCliTest() : HyfalBinaryTest("experiment") {}

@@ -31,8 +31,6 @@ namespace fs = std::filesystem;
 // Helpers: tests/cli_support.hpp
 using namespace hyfal_cli_test;
 
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
 // A trial as it must be equal across shards and the single-process run: its key and result.
 const char* kTrialResult =
     "SELECT experiment, suite, instance, method, config, trial_index, seed, status, nodes, propagations, "
@@ -53,15 +51,6 @@ std::map<std::string, std::string> witnesses_of(const fs::path& db) {
     m[l.substr(0, bar)] = l.substr(bar + 1);
   }
   return m;
-}
-
-std::vector<fs::path> files_under(const fs::path& root) {
-  std::vector<fs::path> v;
-  if (!fs::exists(root)) return v;
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    if (e.is_regular_file()) v.push_back(e.path());
-  std::sort(v.begin(), v.end());
-  return v;
 }
 
 class ShardMergeTest : public HyfalBinaryTest {

@@ -1,0 +1,195 @@
+// End-to-end tests of `hyfal plot` and of the figures `hyfal reproduce` writes: the built binary
+// (HYFAL_BIN) runs as a child process in a fresh folder per test (tests/cli_support.hpp); the
+// figures are checked by tests/check_figures.py (PNG magic, SVG parses). The tests that draw are
+// skipped where Debian's /usr/bin/python3 lacks matplotlib; bad arguments and a missing
+// interpreter or matplotlib are tested everywhere.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+
+#ifndef HYFAL_SOURCE_DIR
+#error "HYFAL_SOURCE_DIR (the source tree, for its committed tables) must be defined"
+#endif
+#ifndef HYFAL_CHECK_FIGURES
+#error "HYFAL_CHECK_FIGURES (tests/check_figures.py) must be defined"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hyfal_cli_test;
+
+bool have_matplotlib() {
+  static const bool have = std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0;
+  return have;
+}
+
+// check_figures.py DIR NAME...: DIR/NAME.png starts with the PNG magic, DIR/NAME.svg is an <svg>.
+bool figures_ok(const fs::path& dir, std::vector<std::string> names) {
+  names.insert(names.begin(), dir.string());
+  std::string cmd = "/usr/bin/python3 ";
+  cmd += quote(HYFAL_CHECK_FIGURES);
+  for (const auto& arg : names) {
+    cmd += ' ';
+    cmd += quote(arg);
+  }
+  return std::system(cmd.c_str()) == 0;
+}
+
+// HYFAL_PYTHON for the children of this test only.
+class ScopedPython {
+ public:
+  explicit ScopedPython(const std::string& python) { setenv("HYFAL_PYTHON", python.c_str(), 1); }
+  ~ScopedPython() { unsetenv("HYFAL_PYTHON"); }
+};
+
+class PlotTest : public HyfalBinaryTest {
+ protected:
+  PlotTest() : HyfalBinaryTest("plot") {}
+
+  // A tables folder as `hyfal reproduce` leaves it: the committed CSVs of Fig. 5 and Table 2.
+  fs::path fixture_tables() {
+    const fs::path tables = work() / "tables";
+    fs::create_directories(tables);
+    for (const char* name : {"kim-fig5-coverage.csv", "plaku-table2.csv"})
+      fs::copy_file(fs::path(HYFAL_SOURCE_DIR) / "results" / "tables" / name, tables / name);
+    return tables;
+  }
+
+  // The witness of a one-trial run (trial 0 falsifies on these instances), its path.
+  fs::path witness_of(const Args& run_args, const std::string& name) {
+    Args a = {"run", "--trials", "1", "--threads", "1", "--db", name + ".sqlite", "--witness-dir", name, "--quiet"};
+    a.insert(a.end(), run_args.begin(), run_args.end());
+    const Result r = hyfal(a);
+    EXPECT_EQ(r.code, 0) << r;
+    const auto files = files_under(work() / name);
+    EXPECT_EQ(files.size(), 1u) << "one witness under " << name;
+    return files.empty() ? fs::path() : files.front();
+  }
+
+  // A python3 without site-packages: Debian's matplotlib cannot be imported by it.
+  fs::path python_without_matplotlib() {
+    const fs::path wrapper = io() / "python-without-site";
+    write_text(wrapper, "#!/bin/sh\nexec /usr/bin/python3 -S \"$@\"\n");
+    fs::permissions(wrapper, fs::perms::owner_all);
+    return wrapper;
+  }
+};
+
+TEST_F(PlotTest, TablesFolderGivesEveryFigureOfItsCsvs) {
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  fixture_tables();
+  const Result r = hyfal({"plot", "tables", "--out", "figures"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(figures_ok(work() / "figures", {"kim-fig5-coverage", "plaku-table2"}));
+  EXPECT_TRUE(contains(r.out, "figures/plaku-table2.png")) << r;
+  // Without --out the figures go beside the tables.
+  const Result beside = hyfal({"plot", "tables"});
+  ASSERT_EQ(beside.code, 0) << beside;
+  EXPECT_TRUE(figures_ok(work() / "tables", {"kim-fig5-coverage", "plaku-table2"}));
+}
+
+TEST_F(PlotTest, WitnessPicturesOfNavigationAircraftAndAnyOtherSuite) {
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  const fs::path maze = witness_of({"--suite", "navigation", "--method", "hydice", "--set", "n=4"}, "nav");
+  const fs::path aircraft = witness_of({"--suite", "aircraft", "--method", "rrt"}, "air");
+  const fs::path thermostat = witness_of({"--suite", "thermostat", "--method", "rrt"}, "thermo");
+  ASSERT_FALSE(HasFailure());
+  Result r = hyfal({"plot", "--witness", maze.string(), "--out", "pictures/maze.png"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = hyfal({"plot", "--witness", aircraft.string(), "--out", "pictures/aircraft.png"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(figures_ok(work() / "pictures", {"maze", "aircraft"}));
+  // Without --out: beside the witness, .json replaced by .png (and .svg).
+  r = hyfal({"plot", "--witness", thermostat.string()});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(figures_ok(thermostat.parent_path(), {thermostat.stem().string()}));
+}
+
+TEST_F(PlotTest, BadArgumentsExitTwoInOneLineAndWriteNothing) {
+  write_text(work() / "not-a-witness.json", "{\"format\": \"something else\"}");
+  fs::create_directories(work() / "empty");
+  const std::vector<Args> bad = {
+      {"plot"},                                                   // neither a folder nor --witness
+      {"plot", "empty", "--witness", "not-a-witness.json"},        // both
+      {"plot", "no-such-folder"},                                  // a folder that is not there
+      {"plot", "--witness", "no-such-file.json"},                  // unreadable
+      {"plot", "--witness", "not-a-witness.json"},                 // not a witness
+      {"plot", "--witness", "empty"},                              // a folder
+      {"plot", "empty", "--out", ""},                              // an empty path
+      {"plot", "empty", "--bogus"},                                // an unknown option
+  };
+  const auto before = files_under(work());
+  for (const Args& args : bad) {
+    const Result r = hyfal(args);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+    EXPECT_TRUE(r.out.empty()) << r;
+  }
+  EXPECT_EQ(files_under(work()), before) << "nothing written";
+}
+
+TEST_F(PlotTest, WitnessOutMustBeAPngPath) {
+  const fs::path w = witness_of({"--suite", "thermostat", "--method", "rrt"}, "thermo");
+  ASSERT_FALSE(HasFailure());
+  const auto before = files_under(work());
+  for (const std::string out : {"picture.svg", "picture", ".png", "thermo"}) {
+    const Result r = hyfal({"plot", "--witness", w.string(), "--out", out});
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+    EXPECT_TRUE(contains(r.err, "--out")) << r;
+  }
+  EXPECT_EQ(files_under(work()), before) << "nothing written";
+}
+
+TEST_F(PlotTest, MissingPythonOrMatplotlibExitsThreeSayingWhatToInstall) {
+  fixture_tables();
+  {
+    const ScopedPython python("/nonexistent/python3");
+    const Result r = hyfal({"plot", "tables", "--out", "figures"});
+    EXPECT_EQ(r.code, 3) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+    EXPECT_TRUE(contains(r.err, "python3-matplotlib")) << r;
+  }
+  {
+    const ScopedPython python(python_without_matplotlib().string());
+    const Result r = hyfal({"plot", "tables", "--out", "figures"});
+    EXPECT_EQ(r.code, 3) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+    EXPECT_TRUE(contains(r.err, "python3-matplotlib")) << r;
+  }
+  EXPECT_FALSE(fs::exists(work() / "figures")) << "nothing written";
+}
+
+TEST_F(PlotTest, ReproduceWritesTheTablesFiguresOrSaysWhyNot) {
+  const Args reproduce = {"reproduce", "kim-fig5", "--profile", "smoke", "--threads", "1", "--db", "db.sqlite",
+                          "--witness-dir", "witnesses", "--out-dir"};
+  {
+    // Without matplotlib the reproduce still succeeds; one line says why there are no figures.
+    const ScopedPython python(python_without_matplotlib().string());
+    Args a = reproduce;
+    a.push_back("without");
+    const Result r = hyfal(a);
+    ASSERT_EQ(r.code, 0) << r;
+    EXPECT_TRUE(fs::exists(work() / "without" / "kim-fig5.md"));
+    EXPECT_TRUE(contains(r.err, "no figures")) << r;
+    EXPECT_TRUE(contains(r.err, "python3-matplotlib")) << r;
+    EXPECT_FALSE(fs::exists(work() / "without" / "kim-fig5-coverage.png"));
+  }
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  Args a = reproduce;
+  a.push_back("with");
+  const Result r = hyfal(a);  // resumes: the trials are stored, only the tables and figures are made
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(figures_ok(work() / "with", {"kim-fig5-coverage", "kim-fig5-failed_extensions_sorted"}));
+  EXPECT_TRUE(contains(r.err, "figures: with/kim-fig5-coverage.png")) << r;
+  EXPECT_FALSE(contains(r.out, ".png")) << "stdout holds the table only";
+}
+
+}  // namespace
