@@ -210,10 +210,31 @@ TEST_F(MpiTest, ReproduceOnTwoRanksStoresWhatOneProcessStores) {
   ASSERT_EQ(two.code, 0) << two;
   const auto a = rows(dir_ / "one.sqlite"), b = rows(dir_ / "two.sqlite");
   EXPECT_FALSE(a.empty());
+  // The smoke profile's 10 s cap is wall clock: on a loaded machine a slow trial may time out in
+  // one run and not in the other. A trial that timed out in either run is compared by key and
+  // seed only; every other one by status, nodes and propagations too.
   const auto all = [&](const fs::path& db) {
-    return sh("sqlite3 " + db.string() + " 'SELECT method, config, instance, trial_index, seed, status, nodes, propagations FROM trials ORDER BY 1,2,3,4'").out;
+    std::map<std::string, std::pair<std::string, std::string>> m;  // key -> (seed, status|nodes|propagations)
+    std::istringstream in(sh("sqlite3 -separator '\t' " + db.string() +
+                             " 'SELECT method || config || instance || trial_index, seed, status || \" \" || nodes || \" \" || propagations FROM trials'").out);
+    for (std::string line; std::getline(in, line);) {
+      const auto t1 = line.find('\t'), t2 = line.find('\t', t1 + 1);
+      m[line.substr(0, t1)] = {line.substr(t1 + 1, t2 - t1 - 1), line.substr(t2 + 1)};
+    }
+    return m;
   };
-  EXPECT_EQ(all("one.sqlite"), all("two.sqlite"));
+  const auto x = all("one.sqlite"), y = all("two.sqlite");
+  ASSERT_EQ(x.size(), y.size());
+  std::size_t compared = 0;
+  for (const auto& [key, v] : x) {
+    ASSERT_TRUE(y.count(key)) << key;
+    const auto& w = y.at(key);
+    EXPECT_EQ(v.first, w.first) << key;
+    if (v.second.starts_with("timeout") || w.second.starts_with("timeout")) continue;
+    EXPECT_EQ(v.second, w.second) << key;
+    ++compared;
+  }
+  EXPECT_GE(2 * compared, x.size()) << "most trials finish within the cap";
 }
 
 TEST_F(MpiTest, RanksOfAnotherBuildAreRefusedBeforeAnythingIsWritten) {
