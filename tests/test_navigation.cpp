@@ -625,14 +625,7 @@ TEST(NavigationOneTerrain, EveryMethodFalsifiesWithAValidWitness) {
     const PlannerContext ctx{*sys, sys->info().parameters, 7, PlannerLimits{15.0, 200'000}, {}};
     const PlannerOutcome out = planner->solve(ctx);
     ASSERT_EQ(out.status, TrialStatus::falsified) << method;
-    Witness w;
-    w.suite = sys->info().suite;
-    w.instance = sys->info().instance;
-    w.method = method;
-    w.state_names = sys->info().state_names;
-    w.input_names = sys->info().input_names;
-    w.trajectory = *out.trajectory;
-    const ValidationReport report = validate_witness(*sys, w);
+    const ValidationReport report = validate_witness(*sys, make_witness(*sys, method, 7, *out.trajectory));
     EXPECT_TRUE(report.valid) << method << ": " << report.reason;
   }
 }
