@@ -14,6 +14,7 @@ row,trial_index,x,y) and writes <figure>.png and <figure>.svg into DIR (default 
   esposito-<suite>-growth-tree0.csv      seed 003: the first tree's growth n_g g(T) against nodes
   plaku-table1.csv                       seed 002 Table 1 as a figure: time against |Q|, per driver
   plaku-table2.csv                       seed 002 Table 2 as a figure: time against N aircraft
+  ompl-navigation.csv                    HyDICE vs OMPL's planners: time against |Q| (as plaku-table1)
 
 Only the figures whose CSVs exist are made (with --only ID: only table ID's); other files are
 ignored. The output is byte-for-byte
@@ -391,12 +392,15 @@ def add_timeout_note(ax):
             label="every trial timed out (at the limit)")
 
 
-def plot_plaku_table1(path, out_dir):
-    """Seed 002 Table 1 as a figure: time against |Q| (log-log), one panel per driver."""
+def plot_plaku_table1(path, out_dir, name="plaku-table1",
+                      title="Navigation: time against |Q| per driver (seed 002 Table 1); "
+                            "solid: ours, dashed: paper (limit 3600 s, ours: table's limit)"):
+    """Seed 002 Table 1 as a figure: time against |Q| (log-log), one panel per driver (and any
+    navigation sweep laid out like it, e.g. ompl-navigation)."""
     blocks = read_sweep_table(path)
     if not blocks:
         return []  # a table without cells: nothing to draw
-    fig, axes = plt.subplots(1, len(blocks), figsize=(5 * len(blocks), 4.8), sharey=True,
+    fig, axes = plt.subplots(1, len(blocks), figsize=(max(9, 5 * len(blocks)), 4.8), sharey=True,
                              squeeze=False)
     colours = {}  # the same colour for a method in every panel
     for ax, (block, rows) in zip(axes[0], blocks.items()):
@@ -411,10 +415,9 @@ def plot_plaku_table1(path, out_dir):
     handles, labels = axes[0][-1].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=min(5, len(labels)), fontsize=8,
                bbox_to_anchor=(0.5, 0.0))
-    fig.suptitle("Navigation: time against |Q| per driver (seed 002 Table 1); "
-                 "solid: ours, dashed: paper (limit 3600 s, ours: table's limit)")
+    fig.suptitle(title)
     fig.tight_layout(rect=(0, 0.12, 1, 1))
-    return save_figure(fig, out_dir, "plaku-table1")
+    return save_figure(fig, out_dir, name)
 
 
 def plot_plaku_table2(path, out_dir):
@@ -451,6 +454,9 @@ def figure_jobs(tables_dir, only=None):
         "kim-fig5-failed_extensions_sorted.csv": plot_kim_fig6_failed_extensions,
         "kim-table2-beta.csv": plot_kim_fig9_beta,
         "plaku-table1.csv": plot_plaku_table1,
+        "ompl-navigation.csv": lambda path, out: plot_plaku_table1(
+            path, out, "ompl-navigation",
+            "HyDICE vs OMPL's control planners on navigation: time against |Q|"),
         "plaku-table2.csv": plot_plaku_table2,
     }
     esposito = re.compile(r"esposito-([A-Za-z0-9_]+)-(dispersion|coverage-tree0|growth-tree0)\.csv")
