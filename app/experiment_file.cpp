@@ -269,8 +269,10 @@ TableMetric read_metric(const TomlReader& r, const toml::node& node, const std::
 using cli::kMaxTrials;  // the limit `hyfal run --trials` has
 
 TableProfile read_profile(const TomlReader& r, const toml::table& t, const std::string& path, const SettingScope& scope,
-                          bool sweep, std::size_t sweep_columns) {
-  r.check_keys(t, path, {"trials", "timeout_s", "max_nodes", "settings", "instances", "columns"});
+                          bool sweep, std::size_t sweep_columns, const std::vector<PaperRow>& rows) {
+  r.check_keys(t, path,
+               {"trials", "timeout_s", "max_nodes", "settings", "instances", "columns", "row_timeout_s",
+                "skip_after_all_stopped"});
   TableProfile p;
   p.trials = static_cast<int>(r.integer(r.require(t, path, "trials"), TomlReader::join(path, "trials"), 1, kMaxTrials));
   const toml::node& timeout = r.require(t, path, "timeout_s");
@@ -278,7 +280,22 @@ TableProfile read_profile(const TomlReader& r, const toml::table& t, const std::
   if (!(p.timeout_s > 0.0)) r.fail(timeout, TomlReader::join(path, "timeout_s"), "must be positive");
   p.max_nodes = r.integer(r.require(t, path, "max_nodes"), TomlReader::join(path, "max_nodes"), 1, INT64_MAX);
   if (const auto* s = r.find(t, "settings")) p.settings = read_settings(r, *s, TomlReader::join(path, "settings"), scope);
-  for (const char* key : {"instances", "columns"})
+  if (const auto* n = r.find(t, "row_timeout_s")) {
+    const std::string at = TomlReader::join(path, "row_timeout_s");
+    const toml::table& caps = r.table(*n, at);
+    for (const auto& [key, value] : caps) {
+      const std::string label(key.str());
+      const std::string key_at = TomlReader::join(at, label);
+      if (std::none_of(rows.begin(), rows.end(), [&](const PaperRow& row) { return row.label == label; }))
+        r.fail(value, key_at, "no row has this label");
+      const double seconds = r.number(value, key_at);
+      if (!(seconds > 0.0)) r.fail(value, key_at, "must be positive");
+      p.row_timeout_s.emplace_back(label, seconds);
+    }
+  }
+  if (const auto* n = r.find(t, "skip_after_all_stopped"))
+    p.skip_after_all_stopped = r.boolean(*n, TomlReader::join(path, "skip_after_all_stopped"));
+  for (const char* key : {"instances", "columns", "skip_after_all_stopped"})
     if (const auto* n = r.find(t, key); n && !sweep) r.fail(*n, TomlReader::join(path, key), "only a sweep table has it");
   if (const auto* n = r.find(t, "instances"))
     p.instances = static_cast<int>(r.integer(*n, TomlReader::join(path, "instances"), 1, kMaxTrials));
@@ -418,13 +435,16 @@ PaperTable load_paper_table(std::string_view text, const std::string& file_name)
   }
 
   const toml::table& profiles = r.table(r.require(root, "", "profile"), "profile");
-  r.check_keys(profiles, "profile", {"smoke", "quick", "paper"});
+  r.check_keys(profiles, "profile", {"smoke", "quick", "full", "paper"});
   const std::size_t sweep_columns = t.sweep ? t.sweep->columns.size() : 0;
   for (auto [name, profile] : {std::pair{"smoke", &t.smoke}, std::pair{"quick", &t.quick}, std::pair{"paper", &t.paper}}) {
     const std::string at = TomlReader::join("profile", name);
     *profile = read_profile(r, r.table(r.require(profiles, "profile", name), at), at, all_methods_scope,
-                            t.sweep.has_value(), sweep_columns);
+                            t.sweep.has_value(), sweep_columns, t.rows);
   }
+  if (const auto* full = r.find(profiles, "full"))  // optional: between quick and paper
+    t.full = read_profile(r, r.table(*full, "profile.full"), "profile.full", all_methods_scope, t.sweep.has_value(),
+                          sweep_columns, t.rows);
   return t;
 }
 

@@ -98,7 +98,7 @@ int cmd_list(bool markdown) {
     fmt::print("  {:<14} {}\n", m.name, m.description);
     for (const auto& o : m.options) print_setting(o);
   }
-  fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|paper)\n");
+  fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|full|paper)\n");
   const auto& tables = builtin_paper_tables();
   if (tables.empty()) fmt::print("  (none)\n");
   for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.id, t.title, t.suite);
@@ -417,9 +417,11 @@ int run_command(int argc, char** argv) {
       "reproduce", "run a paper table's rows (resuming) and write <out-dir>/ID.md and .csv beside the paper's numbers");
   reproduce->add_option("id", pa.id, "table id (see 'hyfal list') or the path of a table file (.toml)")->required();
   reproduce->footer("Runs on a cluster like `run` does: `mpirun -n K hyfal reproduce ID --profile P` (see `hyfal run --help`).");
-  reproduce->add_option("--profile", pa.profile, "smoke (seconds), quick (minutes) or paper (the paper's set-up)")
+  reproduce->add_option("--profile", pa.profile,
+                        "smoke (seconds), quick (minutes), full (the committed tables: larger samples, every column, "
+                        "per-method caps; hours; not every table has one) or paper (the paper's set-up)")
       ->required()
-      ->check(CLI::IsMember({"smoke", "quick", "paper"}));
+      ->check(CLI::IsMember({"smoke", "quick", "full", "paper"}));
   reproduce->add_option("--threads", pa.threads, "worker threads, 0 = all cores, at most 1024")
       ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
   reproduce->add_option("--seed", pa.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")

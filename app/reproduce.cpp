@@ -8,6 +8,7 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -48,7 +49,11 @@ const TableProfile& profile_of(const PaperTable& table, const std::string& name)
   if (name == "smoke") return table.smoke;
   if (name == "quick") return table.quick;
   if (name == "paper") return table.paper;
-  throw UsageError(fmt::format("--profile {}: expected smoke, quick or paper", name));
+  if (name == "full") {
+    if (table.full) return *table.full;
+    throw UsageError(fmt::format("--profile full: table '{}' has no full profile (smoke, quick and paper it has)", table.id));
+  }
+  throw UsageError(fmt::format("--profile {}: expected smoke, quick, full or paper", name));
 }
 
 RunOptions run_options(const ReproduceArgs& a) {
@@ -78,6 +83,8 @@ ReportHeader make_header(const ReproduceArgs& a, const TableProfile& profile, co
   h.profile = a.profile;
   h.trials = profile.trials;
   h.timeout_s = profile.timeout_s;
+  h.row_timeout_s = profile.row_timeout_s;
+  h.skip_after_all_stopped = profile.skip_after_all_stopped;
   h.max_nodes = profile.max_nodes;
   h.profile_settings = profile.settings;
   h.seed = a.seed;
@@ -89,6 +96,13 @@ ReportHeader make_header(const ReproduceArgs& a, const TableProfile& profile, co
   h.git_commit = eo.git_commit;
   h.experiment = experiment;
   return h;
+}
+
+void add_cpu_time(ReportHeader& header, const std::vector<TrialRecord>& trials) {
+  for (const TrialRecord& t : trials) {
+    header.cpu_s += t.cpu_s;
+    ++header.trials_run;
+  }
 }
 
 // A sweep table: one trial group per (block, row, column, instance); all jobs in one pool.
@@ -123,7 +137,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
           if (!sw.instance_key.empty()) overlay_settings(spec.settings, {{sw.instance_key, std::to_string(k)}});
           overlay_settings(spec.settings, row.settings);
           spec.trials = profile.trials;
-          spec.timeout_s = profile.timeout_s;
+          spec.timeout_s = profile.timeout_for(row.label);
           spec.max_nodes = profile.max_nodes;
           spec.seed = a.seed;
           // A sweep's columns grow (|Q| from 1^2 to 1024^2, N from 10 to 20): the later a column,
@@ -139,42 +153,75 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
         }
     }
 
-  // The largest columns first, so that the pool does not end waiting on one long trial.
-  std::vector<std::size_t> order(cells.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cells[x].col > cells[y].col; });
-  std::vector<const TrialGroup*> ordered;
-  for (const std::size_t i : order) ordered.push_back(&cells[i].group);
-  auto run_info =
-      run_groups(fmt::format("table {} --profile {}", table.id, a.profile), ordered, run_options(a));
-  if (!run_info) return 0;  // --plan
-  const EngineOptions& eo = run_info->engine;
-
   std::vector<std::vector<std::vector<std::vector<TrialRecord>>>> trials(
       blocks, std::vector<std::vector<std::vector<TrialRecord>>>(table.rows.size(),
                                                                  std::vector<std::vector<TrialRecord>>(cols)));
-  // A cell holds one group per instance: append, in instance order.
-  std::vector<std::size_t> position(cells.size());
-  for (std::size_t k = 0; k < order.size(); ++k) position[order[k]] = k;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const Cell& cell = cells[i];
-    auto& into = trials[cell.b][cell.row][cell.col];
-    const auto& from = run_info->trials[position[i]];
-    into.insert(into.end(), from.begin(), from.end());
+  const std::string what = fmt::format("table {} --profile {}", table.id, a.profile);
+  RunOptions options = run_options(a);
+  // Column waves (skip_after_all_stopped): a row's column runs only while every earlier column of
+  // the row had a trial that was not stopped. A shard cannot know the other shards' outcomes, and
+  // --plan sizes the whole table, so both take every cell.
+  const bool waves = profile.skip_after_all_stopped && options.shard.whole() && !options.plan;
+  std::optional<GroupsRun> run_info;
+  std::size_t total = 0, run_now = 0, errors = 0;
+  // Runs the cells `chosen` (indices into cells) and appends their stored trials to their cells,
+  // one group per instance, in instance order.
+  const auto run_cells = [&](std::vector<std::size_t> chosen) {
+    // The largest columns first, so that the pool does not end waiting on one long trial.
+    std::stable_sort(chosen.begin(), chosen.end(), [&](std::size_t x, std::size_t y) { return cells[x].col > cells[y].col; });
+    std::vector<const TrialGroup*> ordered;
+    for (const std::size_t i : chosen) ordered.push_back(&cells[i].group);
+    run_info = run_groups(what, ordered, options);
+    if (!run_info) return false;  // --plan
+    total += run_info->total;
+    run_now += run_info->run_now;
+    errors += run_info->errors;
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+      const Cell& cell = cells[chosen[k]];
+      auto& into = trials[cell.b][cell.row][cell.col];
+      into.insert(into.end(), run_info->trials[k].begin(), run_info->trials[k].end());
+    }
+    return true;
+  };
+  if (!waves) {
+    std::vector<std::size_t> all(cells.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    if (!run_cells(std::move(all))) return 0;
+  } else {
+    std::vector<std::vector<bool>> stopped(blocks, std::vector<bool>(table.rows.size(), false));
+    for (std::size_t c = 0; c < run; ++c) {
+      std::vector<std::size_t> wave;
+      for (std::size_t i = 0; i < cells.size(); ++i)
+        if (cells[i].col == c && !stopped[cells[i].b][cells[i].row]) wave.push_back(i);
+      if (wave.empty()) break;
+      (void)run_cells(std::move(wave));
+      options.quiet = true;  // one "resuming" note is enough
+      for (std::size_t b = 0; b < blocks; ++b)
+        for (std::size_t r = 0; r < table.rows.size(); ++r) {
+          const auto& cell = trials[b][r][c];
+          stopped[b][r] = stopped[b][r] || (!cell.empty() && std::all_of(cell.begin(), cell.end(), [](const TrialRecord& t) {
+                                              return t.status == TrialStatus::timeout || t.status == TrialStatus::node_cap;
+                                            }));
+        }
+    }
   }
-  SweepReport report = make_sweep_report(table, trials, static_cast<int>(run));
+  const EngineOptions& eo = run_info->engine;
+  SweepReport report = make_sweep_report(table, trials, static_cast<int>(run), profile.skip_after_all_stopped);
   if (report.suite.empty()) report.suite = suite->name;
-  const ReportHeader header = make_header(a, profile, eo, experiment);
+  ReportHeader header = make_header(a, profile, eo, experiment);
+  for (const auto& block : trials)
+    for (const auto& row : block)
+      for (const auto& cell : row) add_cpu_time(header, cell);
   const std::string markdown = to_markdown(report, header);
   const fs::path out_dir(a.out_dir);
   write_file_atomic((out_dir / (table.id + ".md")).string(), markdown);
   write_file_atomic((out_dir / (table.id + ".csv")).string(), to_csv(report, header));
   std::cout << markdown << std::flush;
-  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info->total,
-             run_info->run_now, (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
+  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", total, run_now,
+             (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
   write_table_figures(a.out_dir, table.id);
   print_shard_note(a);
-  return run_info->errors ? 1 : 0;
+  return errors ? 1 : 0;
 }
 
 }  // namespace
@@ -213,7 +260,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
     spec.settings = profile.settings;  // then the row's own, which wins
     overlay_settings(spec.settings, row.settings);
     spec.trials = profile.trials;
-    spec.timeout_s = profile.timeout_s;
+    spec.timeout_s = profile.timeout_for(row.label);
     spec.max_nodes = profile.max_nodes;
     spec.seed = a.seed;
     try {
@@ -235,7 +282,8 @@ int cmd_reproduce(const ReproduceArgs& a) {
 
   PaperReport report = make_paper_report(*table, rows_trials);
   if (report.suite.empty()) report.suite = suite->name;
-  const ReportHeader header = make_header(a, profile, eo, experiment);
+  ReportHeader header = make_header(a, profile, eo, experiment);
+  for (const auto& row : rows_trials) add_cpu_time(header, row);
 
   const std::string markdown = to_markdown(report, header);
   const fs::path out_dir(a.out_dir);

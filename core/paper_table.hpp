@@ -44,6 +44,20 @@ struct TableProfile {
   // sweep's instance_key) and the columns to run (the first `columns`; -1 = all).
   int instances = 1;
   int columns = -1;
+  // Per-row time limits (row label -> seconds) replacing timeout_s for that row: a table states
+  // each method's cap, as the paper's X's imply one per method (seed 002 Table 1).
+  std::vector<std::pair<std::string, double>> row_timeout_s = {};
+  // Sweep tables only: once every trial of a row's cell was stopped (our "X"), the row's later
+  // (larger) columns are not run and read "X (skipped)", as the paper stops a method at its
+  // first X. Columns then run one after another (each column a wave of trials).
+  bool skip_after_all_stopped = false;
+
+  // The time limit of the row labelled `label`.
+  double timeout_for(const std::string& label) const {
+    for (const auto& [row, seconds] : row_timeout_s)
+      if (row == label) return seconds;
+    return timeout_s;
+  }
 };
 
 // A table whose columns (and blocks) are values of instance parameters — seed 002 Table 1:
@@ -72,6 +86,9 @@ struct PaperTable {
   std::vector<PaperColumn> columns;
   std::vector<PaperRow> rows;
   TableProfile smoke, quick, paper;
+  // Between quick and paper: the committed tables' profile (larger samples, every column, per-row
+  // caps); optional in a table file.
+  std::optional<TableProfile> full = {};
   std::string notes;     // what differs from the paper's set-up, and why
   // Per-trial series (PlannerOutcome::series names) exported to <id>-<name>.csv, e.g. the
   // sorted n_j of seed 000 Fig. 6 or coverage against nodes.

@@ -383,11 +383,28 @@ PaperReport make_paper_report(const PaperTable& table,
   return report;
 }
 
+std::string timeout_text(const ReportHeader& header) {
+  std::string s = fmt::format("timeout {} s", header.timeout_s);
+  if (header.row_timeout_s.empty()) return s;
+  std::vector<std::string> caps;
+  for (const auto& [row, seconds] : header.row_timeout_s) caps.push_back(fmt::format("{} {} s", row, seconds));
+  return fmt::format("{} ({})", s, fmt::join(caps, ", "));
+}
+
+std::string cpu_time_line(const ReportHeader& header) {
+  if (header.trials_run == 0) return "";
+  const double s = header.cpu_s;
+  const std::string amount = s >= 3600.0 ? fmt::format("{:.2f} h", s / 3600.0)
+                             : s >= 60.0 ? fmt::format("{:.1f} min", s / 60.0)
+                                         : fmt::format("{:.1f} s", s);
+  return fmt::format("- CPU time: {} over {} trials (their CPU seconds summed)\n", amount, header.trials_run);
+}
+
 std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
   std::string md = fmt::format("# {}: {}\n\n", report.id, report.title);
   md += fmt::format("- source: {}\n", report.source.empty() ? std::string(kMissing) : report.source);
-  md += fmt::format("- profile: {}: {} trials per row, timeout {} s, node cap {}, master seed {}; profile settings: {}\n",
-                    header.profile, header.trials, header.timeout_s, header.max_nodes, header.seed,
+  md += fmt::format("- profile: {}: {} trials per row, {}, node cap {}, master seed {}; profile settings: {}\n",
+                    header.profile, header.trials, timeout_text(header), header.max_nodes, header.seed,
                     settings_text(header.profile_settings));
   md += fmt::format("- suite: {}; experiment: {}\n", report.suite.empty() ? std::string(kMissing) : report.suite,
                     header.experiment.empty() ? std::string(kMissing) : header.experiment);
@@ -395,6 +412,7 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
                     header.threads);
   md += fmt::format("- date (UTC): {}\n", header.date_utc);
   md += fmt::format("- git commit: {}\n", header.git_commit);
+  md += cpu_time_line(header);
   if (!report.notes.empty()) {
     std::string notes = report.notes;
     while (!notes.empty() && (notes.back() == '\n' || notes.back() == ' ')) notes.pop_back();

@@ -132,8 +132,13 @@ struct ReportHeader {
   std::string profile;
   int trials = 0;  // per row
   double timeout_s = 0.0;
+  std::vector<std::pair<std::string, double>> row_timeout_s;  // per-row caps (TableProfile)
+  bool skip_after_all_stopped = false;
   std::int64_t max_nodes = 0;
   Settings profile_settings;
+  // The table's trials: how many, and their CPU seconds summed (what the table cost to make).
+  std::size_t trials_run = 0;
+  double cpu_s = 0.0;
   std::uint64_t seed = 0;
   int threads = 0;
   std::string host;
@@ -151,6 +156,11 @@ struct ReportHeader {
 // all columns, how the verdicts are decided, and a footnote explaining "≥" / "≤" when a value is
 // a bound.
 std::string to_markdown(const PaperReport& report, const ReportHeader& header);
+
+// The header's time limit with the per-row caps, e.g. "timeout 120 s (RRT 30 s, RRT[D*] 30 s)".
+std::string timeout_text(const ReportHeader& header);
+// "- CPU time: 1.52 h over 1,200 trials (their CPU seconds summed)\n", or "" with no trials.
+std::string cpu_time_line(const ReportHeader& header);
 
 // RFC 4180 CSV (CRLF, fields quoted as needed), one line per (row, column), with header
 // table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,

@@ -1,5 +1,6 @@
 #include "results/sweep_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string_view>
@@ -24,6 +25,7 @@ std::string paper_text(double v) {
 // when some were (a lower bound); "[k/n]" when not every trial falsified.
 std::string ours_text(const SweepCell& c) {
   if (!c.run) return "";
+  if (c.skipped) return "X (skipped)";
   if (c.n == 0) return std::string(kMissing);
   std::string s;
   if (c.all_stopped())
@@ -51,7 +53,7 @@ std::string settings_text(const Settings& settings) {
 
 SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
-                              int columns_run) {
+                              int columns_run, bool skip_after_all_stopped) {
   if (!table.sweep) throw std::invalid_argument("make_sweep_report: the table is not a sweep");
   const TableSweep& sw = *table.sweep;
   const std::size_t blocks = sw.blocks.empty() ? 1 : sw.blocks.size();
@@ -106,6 +108,10 @@ SweepReport make_sweep_report(const PaperTable& table,
         cell.mean_s = cell.wall_s.mean;
         cell.median_s = cell.wall_s.median;
         cell.value = sw.median ? cell.median_s : cell.mean_s;
+        // Not run because an earlier column of the row was all stopped (skip_after_all_stopped).
+        cell.skipped = skip_after_all_stopped && cell.run && cell.n == 0 &&
+                       std::any_of(r.cells[b][i].begin(), r.cells[b][i].begin() + static_cast<std::ptrdiff_t>(c),
+                                   [](const SweepCell& earlier) { return earlier.all_stopped() || earlier.skipped; });
       }
     }
     // Orderings per run column: the paper's "X" counts as its time limit (two X's tie), ours are
@@ -128,13 +134,17 @@ SweepReport make_sweep_report(const PaperTable& table,
 std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
   std::string md = fmt::format("# {}: {}\n\n", r.id, r.title);
   md += fmt::format("- source: {}\n", r.source.empty() ? std::string(kMissing) : r.source);
-  md += fmt::format("- profile: {}: {} trial(s) per instance, timeout {} s, node cap {}, master seed {}; profile settings: {}\n",
-                    header.profile, header.trials, header.timeout_s, header.max_nodes, header.seed,
-                    settings_text(header.profile_settings));
+  md += fmt::format("- profile: {}: {} trial(s) per instance, {}, node cap {}, master seed {}; profile settings: {}{}\n",
+                    header.profile, header.trials, timeout_text(header), header.max_nodes, header.seed,
+                    settings_text(header.profile_settings),
+                    header.skip_after_all_stopped
+                        ? "; a row's columns after one where every trial was stopped are not run (X (skipped))"
+                        : "");
   md += fmt::format("- suite: {}; experiment: {}\n", r.suite.empty() ? std::string(kMissing) : r.suite, header.experiment);
   md += fmt::format("- machine: {}, nproc {}, {}; {} worker threads\n", header.host, header.nproc, header.cpu_model,
                     header.threads);
   md += fmt::format("- date (UTC): {}\n- git commit: {}\n", header.date_utc, header.git_commit);
+  md += cpu_time_line(header);
   if (!r.notes.empty()) {
     std::string notes;
     for (const char c : r.notes) {
@@ -147,8 +157,12 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
   md += fmt::format(
       "\nCells: {} wall time in seconds over the cell's trials (one per instance). X: every trial was stopped by "
       "the time limit or node cap (ours: ≥ the time they ran); ≥: some were, so the value is a lower bound; "
-      "[k/n]: k of n trials falsified. Paper: X = timeout at {} s.\n",
-      r.median ? "median" : "mean", r.paper_timeout_s);
+      "[k/n]: k of n trials falsified.{} Paper: X = timeout at {} s.\n",
+      r.median ? "median" : "mean",
+      header.skip_after_all_stopped
+          ? " X (skipped): not run, because in an earlier column of the row every trial was stopped."
+          : "",
+      r.paper_timeout_s);
   std::size_t run = 0;
   for (std::size_t c = 0; c < r.columns.size(); ++c)
     if (!r.cells.empty() && !r.cells[0].empty() && r.cells[0][0][c].run) run = c + 1;
@@ -194,7 +208,7 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
           break;
         }
       for (std::size_t c = 0; c < run; ++c)
-        if (r.cells[b][i][c].all_stopped()) {
+        if (r.cells[b][i][c].all_stopped() || r.cells[b][i][c].skipped) {
           ox = r.columns[c];
           break;
         }
@@ -255,7 +269,7 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
 std::string to_csv(const SweepReport& r, const ReportHeader& header) {
   std::string csv = "table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,falsified_rate,"
                     "timeouts,errors,time_std_s,time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,"
-                    "nodes_ci_low,nodes_ci_high,paper_previous,verdict,p_value\r\n";
+                    "nodes_ci_low,nodes_ci_high,paper_previous,verdict,p_value,skipped\r\n";
   for (std::size_t b = 0; b < r.blocks.size(); ++b)
     for (std::size_t i = 0; i < r.rows.size(); ++i)
       for (std::size_t c = 0; c < r.columns.size(); ++c) {
@@ -272,10 +286,11 @@ std::string to_csv(const SweepReport& r, const ReportHeader& header) {
         csv += fmt::format(",{},{},{},{},{},{},{},{}", csv_number(cell.wall_s.stddev), csv_number(cell.wall_s.ci_low),
                            csv_number(cell.wall_s.ci_high), csv_number(cell.nodes.mean), csv_number(cell.nodes.median),
                            csv_number(cell.nodes.stddev), csv_number(cell.nodes.ci_low), csv_number(cell.nodes.ci_high));
-        csv += fmt::format(",{},{},{}\r\n", pair ? csv_field(r.rows[pair->first]) : std::string(),
+        csv += fmt::format(",{},{},{},{}\r\n", pair ? csv_field(r.rows[pair->first]) : std::string(),
                            pair ? csv_field(to_string(pair->verdict)) : std::string(),
                            pair && pair->verdict != OrderingVerdict::too_few_trials ? csv_number(pair->test.p_value)
-                                                                                    : std::string());
+                                                                                    : std::string(),
+                           cell.skipped ? "true" : "false");
       }
   return csv;
 }

@@ -16,6 +16,7 @@ namespace hyfal {
 
 struct SweepCell {
   bool run = false;               // the profile ran this column
+  bool skipped = false;           // not run: an earlier column of the row had every trial stopped
   double paper = kNotReported;    // seconds; kPaperTimeout for the paper's "X"
   std::size_t n = 0, falsified = 0, timeouts = 0, node_caps = 0, not_found = 0, errors = 0;
   // Wall seconds over the trials (errors excluded); a stopped trial counts with the time it had,
@@ -41,11 +42,12 @@ struct SweepReport {
   std::vector<std::vector<OrderingCheck>> orderings;
 };
 
-// trials[block][row][column]: the trials of that cell (any instance). Throws
+// trials[block][row][column]: the trials of that cell (any instance); with skip_after_all_stopped,
+// a run cell without trials after one of its row where every trial was stopped is `skipped`. Throws
 // std::invalid_argument when the shape does not match the table's sweep.
 SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
-                              int columns_run);
+                              int columns_run, bool skip_after_all_stopped = false);
 
 // Markdown: per block our cells and the paper's, the fastest method and first X per column, a
 // statistics table (per row and run column: n, falsified, stopped, then mean, median, std and

@@ -131,6 +131,62 @@ max_nodes = 20_000
   EXPECT_EQ(cells, 2);
 }
 
+// A full profile's per-row caps and skip_after_all_stopped: a row whose every trial of a column
+// was stopped runs none of its later columns ("X (skipped)"), the other row runs them all.
+TEST_F(ExperimentCliTest, ARowStopsAtItsFirstAllStoppedColumnWhenTheProfileSkips) {
+  write_text(work() / "skip.toml", R"(id = "skip-sweep"
+title = "caps and skips"
+source = "ours"
+suite = "navigation"
+[[rows]]
+label = "Starved"
+method = "hydice-noleads"
+[[rows]]
+label = "HyDICE"
+method = "hydice"
+[sweep]
+instance_key = "property"
+paper_timeout_s = 10.0
+columns = [{ label = "1²", settings = { n = 1 } }, { label = "2²", settings = { n = 2 } }, { label = "4²", settings = { n = 4 } }]
+paper = [[[0.1, 0.1, 0.3], [0.4, 0.4, 0.6]]]
+[profile.smoke]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+[profile.quick]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+[profile.full]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+instances = 2
+row_timeout_s = { Starved = 1e-9 }
+skip_after_all_stopped = true
+[profile.paper]
+trials = 1
+timeout_s = 10.0
+max_nodes = 20_000
+)");
+  const Result r = hyfal({"reproduce", "skip.toml", "--profile", "full", "--threads", "2", "--db", "db.sqlite",
+                          "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  const std::string md = read_text(work() / "out" / "skip-sweep.md");
+  EXPECT_TRUE(contains(md, "timeout 10 s (Starved 1e-09 s)")) << md;
+  EXPECT_TRUE(contains(md, "| Starved | X (≥")) << md;
+  EXPECT_TRUE(contains(md, "| X (skipped) | X (skipped) |")) << md;
+  EXPECT_TRUE(contains(md, "- CPU time: ")) << md;
+  const std::string csv = read_text(work() / "out" / "skip-sweep.csv");
+  EXPECT_TRUE(contains(csv, ",Starved,hydice-noleads,1²,0.1,")) << csv;
+  EXPECT_TRUE(contains(csv, ",Starved,hydice-noleads,4²,0.3,,,0,0,,0,0,")) << csv;
+  EXPECT_TRUE(contains(csv, ",HyDICE,hydice,4²,0.6,")) << csv;
+  // Stored: Starved's 1² (2 instances) and HyDICE's three columns (2 each); nothing else.
+  const Result listed = hyfal({"table", "--db", "db.sqlite", "--format", "csv"});
+  ASSERT_EQ(listed.code, 0) << listed;
+  EXPECT_EQ(std::count(listed.out.begin(), listed.out.end(), '\n'), 1 + 2 + 6) << listed.out;
+}
+
 // `hyfal list` shows the tables compiled in: one per committed file, wherever it runs.
 TEST_F(ExperimentCliTest, ListShowsEveryCommittedTableFile) {
   const Result r = hyfal({"list"});

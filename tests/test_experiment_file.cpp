@@ -49,7 +49,8 @@ Json settings_json(const Settings& s) {
 }
 Json profile_json(const TableProfile& p) {
   return {{"trials", p.trials},      {"timeout_s", p.timeout_s}, {"max_nodes", p.max_nodes},
-          {"settings", settings_json(p.settings)}, {"instances", p.instances}, {"columns", p.columns}};
+          {"settings", settings_json(p.settings)}, {"instances", p.instances}, {"columns", p.columns},
+          {"row_timeout_s", p.row_timeout_s}, {"skip_after_all_stopped", p.skip_after_all_stopped}};
 }
 Json sweep_values_json(const std::vector<SweepValue>& values) {
   Json a = Json::array();
@@ -70,6 +71,7 @@ Json table_json(const PaperTable& t) {
   j["smoke"] = profile_json(t.smoke);
   j["quick"] = profile_json(t.quick);
   j["paper"] = profile_json(t.paper);
+  if (t.full) j["full"] = profile_json(*t.full);
   if (t.sweep) {
     const TableSweep& s = *t.sweep;
     Json paper = Json::array();
@@ -181,7 +183,9 @@ TEST(PaperTableFiles, ReadsSettingsInFileOrderAsSetTexts) {
   EXPECT_EQ(t.smoke.timeout_s, 5.0);
   EXPECT_EQ(t.paper.settings, (Settings{{"horizon", "30"}}));
   EXPECT_FALSE(t.sweep.has_value());
+  EXPECT_FALSE(t.full.has_value());  // optional
 }
+
 
 // Replaces the first `from` in kGood by `to` (which must be there).
 std::string edited(const std::string& from, const std::string& to) {
@@ -190,6 +194,18 @@ std::string edited(const std::string& from, const std::string& to) {
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) s.replace(at, from.size(), to);
   return s;
+}
+
+TEST(PaperTableFiles, ReadsAFullProfileWithPerRowCaps) {
+  const std::string text = edited("[profile.paper]",
+                                  "[profile.full]\ntrials = 3\ntimeout_s = 5\nmax_nodes = 10\n"
+                                  "row_timeout_s = { B = 2.5 }\n[profile.paper]");
+  const PaperTable t = load_paper_table(text, "tiny.toml");
+  ASSERT_TRUE(t.full.has_value());
+  EXPECT_EQ(t.full->trials, 3);
+  EXPECT_EQ(t.full->timeout_for("A"), 5.0);
+  EXPECT_EQ(t.full->timeout_for("B"), 2.5);
+  EXPECT_FALSE(t.full->skip_after_all_stopped);
 }
 
 struct BadFile {
@@ -226,6 +242,12 @@ std::vector<BadFile> bad_files() {
       {"SweepKeyInProfile", edited("max_nodes = 1000\n[profile.quick]", "max_nodes = 1000\ninstances = 3\n[profile.quick]"),
        "tiny.toml:22:", "profile.smoke.instances"},
       {"IdWithSlash", edited("id = \"tiny\"", "id = \"../tiny\""), "tiny.toml:1:", "id"},
+      {"RowCapOfNoRow", edited("[profile.paper]", "[profile.full]\ntrials = 2\ntimeout_s = 5\nmax_nodes = 10\nrow_timeout_s = { C = 3 }\n[profile.paper]"),
+       "tiny.toml:30:", "profile.full.row_timeout_s.C"},
+      {"RowCapNotPositive", edited("[profile.paper]", "[profile.full]\ntrials = 2\ntimeout_s = 5\nmax_nodes = 10\nrow_timeout_s = { B = 0 }\n[profile.paper]"),
+       "tiny.toml:30:", "profile.full.row_timeout_s.B"},
+      {"SkipInATableThatIsNoSweep", edited("[profile.paper]", "[profile.full]\ntrials = 2\ntimeout_s = 5\nmax_nodes = 10\nskip_after_all_stopped = true\n[profile.paper]"),
+       "tiny.toml:30:", "profile.full.skip_after_all_stopped"},
   };
 }
 

@@ -384,7 +384,7 @@ TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
   EXPECT_EQ(csv.substr(0, csv.find("\r\n")),
             "table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,"
             "errors,time_std_s,time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,nodes_ci_low,"
-            "nodes_ci_high,paper_previous,verdict,p_value");
+            "nodes_ci_high,paper_previous,verdict,p_value,skipped");
   // HyDICE 2² comes after RRT in the paper's order: its line carries that pair's verdict.
   EXPECT_NE(csv.find(",RandomDriver,HyDICE,hydice,2²,0.4,1,1,2,2,1,0,0,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",RRT,within noise,"), std::string::npos) << csv;
