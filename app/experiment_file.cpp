@@ -269,7 +269,7 @@ TableMetric read_metric(const TomlReader& r, const toml::node& node, const std::
 using cli::kMaxTrials;  // the limit `hyfal run --trials` has
 
 TableProfile read_profile(const TomlReader& r, const toml::table& t, const std::string& path, const SettingScope& scope,
-                          bool sweep, std::size_t sweep_columns, const std::vector<PaperRow>& rows) {
+                          bool sweep, const std::vector<std::string>& sweep_labels, const std::vector<PaperRow>& rows) {
   r.check_keys(t, path,
                {"trials", "timeout_s", "max_nodes", "settings", "instances", "columns", "row_timeout_s",
                 "skip_after_all_stopped"});
@@ -299,10 +299,23 @@ TableProfile read_profile(const TomlReader& r, const toml::table& t, const std::
     if (const auto* n = r.find(t, key); n && !sweep) r.fail(*n, TomlReader::join(path, key), "only a sweep table has it");
   if (const auto* n = r.find(t, "instances"))
     p.instances = static_cast<int>(r.integer(*n, TomlReader::join(path, "instances"), 1, kMaxTrials));
-  if (const auto* n = r.find(t, "columns"))
+  if (const auto* n = r.find(t, "columns"); n && n->is_array()) {  // labels of the columns to run
+    const std::string at = TomlReader::join(path, "columns");
+    const toml::array& labels = r.array(*n, at);
+    if (labels.empty()) r.fail(*n, at, "an empty list runs nothing");
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      const std::string label = r.string(labels[i], TomlReader::index(at, i));
+      if (std::none_of(sweep_labels.begin(), sweep_labels.end(), [&](const std::string& l) { return l == label; }))
+        r.fail(labels[i], TomlReader::index(at, i), fmt::format("no sweep column is labelled '{}'", label));
+      if (std::find(p.column_labels.begin(), p.column_labels.end(), label) != p.column_labels.end())
+        r.fail(labels[i], TomlReader::index(at, i), fmt::format("'{}' is listed twice", label));
+      p.column_labels.push_back(label);
+    }
+  } else if (n) {
     p.columns = static_cast<int>(
-        r.integer(*n, TomlReader::join(path, "columns"), -1, static_cast<std::int64_t>(sweep_columns)));
-  if (p.columns == 0) r.fail(*r.find(t, "columns"), TomlReader::join(path, "columns"), "0 columns run nothing (-1 = all)");
+        r.integer(*n, TomlReader::join(path, "columns"), -1, static_cast<std::int64_t>(sweep_labels.size())));
+    if (p.columns == 0) r.fail(*n, TomlReader::join(path, "columns"), "0 columns run nothing (-1 = all)");
+  }
   return p;
 }
 
@@ -436,7 +449,9 @@ PaperTable load_paper_table(std::string_view text, const std::string& file_name)
 
   const toml::table& profiles = r.table(r.require(root, "", "profile"), "profile");
   r.check_keys(profiles, "profile", {"smoke", "quick", "full", "paper"});
-  const std::size_t sweep_columns = t.sweep ? t.sweep->columns.size() : 0;
+  std::vector<std::string> sweep_columns;  // the sweep's column labels
+  if (t.sweep)
+    for (const SweepValue& c : t.sweep->columns) sweep_columns.push_back(c.label);
   for (auto [name, profile] : {std::pair{"smoke", &t.smoke}, std::pair{"quick", &t.quick}, std::pair{"paper", &t.paper}}) {
     const std::string at = TomlReader::join("profile", name);
     *profile = read_profile(r, r.table(r.require(profiles, "profile", name), at), at, all_methods_scope,

@@ -113,7 +113,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
     throw UsageError(fmt::format("table '{}' profile '{}': instances must be >= 1", table.id, a.profile));
   const std::size_t blocks = sw.blocks.empty() ? 1 : sw.blocks.size();
   const std::size_t cols = sw.columns.size();
-  const std::size_t run = profile.columns < 0 ? cols : std::min<std::size_t>(cols, static_cast<std::size_t>(profile.columns));
+  const std::vector<bool> run = columns_run(sw, profile);
   struct Cell {
     std::size_t b, row, col;
     TrialGroup group;
@@ -125,8 +125,8 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
       const MethodEntry* method = find_method(row.method);
       if (!method)
         throw UsageError(fmt::format("table '{}' row '{}': method '{}' is not registered", table.id, row.label, row.method));
-      for (std::size_t c = 0; c < run; ++c)
-        for (int k = 0; k < profile.instances; ++k) {
+      for (std::size_t c = 0; c < cols; ++c)
+        for (int k = 0; k < profile.instances && run[c]; ++k) {
           TrialGroupSpec spec;
           spec.experiment = experiment;
           spec.suite = suite;
@@ -189,11 +189,11 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
     if (!run_cells(std::move(all))) return 0;
   } else {
     std::vector<std::vector<bool>> stopped(blocks, std::vector<bool>(table.rows.size(), false));
-    for (std::size_t c = 0; c < run; ++c) {
+    for (std::size_t c = 0; c < cols; ++c) {
       std::vector<std::size_t> wave;
       for (std::size_t i = 0; i < cells.size(); ++i)
         if (cells[i].col == c && !stopped[cells[i].b][cells[i].row]) wave.push_back(i);
-      if (wave.empty()) break;
+      if (wave.empty()) continue;  // a column the profile does not run, or every row stopped
       (void)run_cells(std::move(wave));
       options.quiet = true;  // one "resuming" note is enough
       for (std::size_t b = 0; b < blocks; ++b)
@@ -206,7 +206,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
     }
   }
   const EngineOptions& eo = run_info->engine;
-  SweepReport report = make_sweep_report(table, trials, static_cast<int>(run), profile.skip_after_all_stopped);
+  SweepReport report = make_sweep_report(table, trials, run, profile.skip_after_all_stopped);
   if (report.suite.empty()) report.suite = suite->name;
   ReportHeader header = make_header(a, profile, eo, experiment);
   for (const auto& block : trials)

@@ -44,6 +44,9 @@ struct TableProfile {
   // sweep's instance_key) and the columns to run (the first `columns`; -1 = all).
   int instances = 1;
   int columns = -1;
+  // Or the columns to run by label, in the sweep's order (non-empty: `columns` is not used); e.g.
+  // the paper profile runs exactly the paper's columns and leaves out one the paper does not have.
+  std::vector<std::string> column_labels = {};
   // Per-row time limits (row label -> seconds) replacing timeout_s for that row: a table states
   // each method's cap, as the paper's X's imply one per method (seed 002 Table 1).
   std::vector<std::pair<std::string, double>> row_timeout_s = {};
@@ -77,6 +80,19 @@ struct TableSweep {
   double paper_timeout_s = 0.0;    // the paper's time limit behind "X"
   bool median = false;             // cells are medians over the instances (seed 002 Table 2), not means
 };
+
+// Which of the sweep's columns `profile` runs: column_labels when given, else the first `columns`
+// (-1 = all).
+inline std::vector<bool> columns_run(const TableSweep& sweep, const TableProfile& profile) {
+  std::vector<bool> run(sweep.columns.size(), false);
+  for (std::size_t c = 0; c < run.size(); ++c) {
+    if (profile.column_labels.empty())
+      run[c] = profile.columns < 0 || c < static_cast<std::size_t>(profile.columns);
+    else
+      for (const std::string& label : profile.column_labels) run[c] = run[c] || label == sweep.columns[c].label;
+  }
+  return run;
+}
 
 struct PaperTable {
   std::string id;        // e.g. "kim-table1"

@@ -55,10 +55,19 @@ SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
                               int columns_run, bool skip_after_all_stopped) {
   if (!table.sweep) throw std::invalid_argument("make_sweep_report: the table is not a sweep");
+  TableProfile first;
+  first.columns = columns_run;
+  return make_sweep_report(table, trials, hyfal::columns_run(*table.sweep, first), skip_after_all_stopped);
+}
+
+SweepReport make_sweep_report(const PaperTable& table,
+                              const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
+                              const std::vector<bool>& run, bool skip_after_all_stopped) {
+  if (!table.sweep) throw std::invalid_argument("make_sweep_report: the table is not a sweep");
   const TableSweep& sw = *table.sweep;
   const std::size_t blocks = sw.blocks.empty() ? 1 : sw.blocks.size();
   const std::size_t cols = sw.columns.size();
-  const std::size_t run = columns_run < 0 ? cols : std::min<std::size_t>(cols, static_cast<std::size_t>(columns_run));
+  if (run.size() != cols) throw std::invalid_argument("make_sweep_report: one run flag per column expected");
   if (trials.size() != blocks) throw std::invalid_argument("make_sweep_report: one trial set per block expected");
   SweepReport r;
   r.id = table.id;
@@ -86,7 +95,7 @@ SweepReport make_sweep_report(const PaperTable& table,
       for (std::size_t c = 0; c < cols; ++c) {
         SweepCell& cell = r.cells[b][i][c];
         if (b < sw.paper.size() && i < sw.paper[b].size() && c < sw.paper[b][i].size()) cell.paper = sw.paper[b][i][c];
-        cell.run = c < run;
+        cell.run = run[c];
         std::vector<double> times, nodes;
         for (const TrialRecord& t : trials[b][i][c]) {
           ++cell.n;
@@ -116,7 +125,8 @@ SweepReport make_sweep_report(const PaperTable& table,
     }
     // Orderings per run column: the paper's "X" counts as its time limit (two X's tie), ours are
     // the cells' censored times.
-    for (std::size_t c = 0; c < run; ++c) {
+    for (std::size_t c = 0; c < cols; ++c) {
+      if (!run[c]) continue;
       std::vector<double> paper, ours;
       std::vector<std::vector<CensoredValue>> samples;
       for (std::size_t i = 0; i < table.rows.size(); ++i) {
@@ -163,21 +173,24 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
           ? " X (skipped): not run, because in an earlier column of the row every trial was stopped."
           : "",
       r.paper_timeout_s);
-  std::size_t run = 0;
+  // The columns run (the profile's), in order.
+  std::vector<std::size_t> run;
   for (std::size_t c = 0; c < r.columns.size(); ++c)
-    if (!r.cells.empty() && !r.cells[0].empty() && r.cells[0][0][c].run) run = c + 1;
+    if (!r.cells.empty() && !r.cells[0].empty() && r.cells[0][0][c].run) run.push_back(c);
+  std::vector<std::size_t> all(r.columns.size());
+  for (std::size_t c = 0; c < all.size(); ++c) all[c] = c;
   for (std::size_t b = 0; b < r.blocks.size(); ++b) {
     if (!r.blocks[b].empty()) md += fmt::format("\n## {}\n", r.blocks[b]);
     for (int which = 0; which < 2; ++which) {
       md += which == 0 ? "\nours\n\n" : "\npaper\n\n";
       std::vector<std::string> head{"method"};
-      const std::size_t shown = which == 0 ? run : r.columns.size();
-      for (std::size_t c = 0; c < shown; ++c) head.push_back(markdown_cell(r.columns[c]));
+      const std::vector<std::size_t>& shown = which == 0 ? run : all;
+      for (const std::size_t c : shown) head.push_back(markdown_cell(r.columns[c]));
       md += markdown_row(head);
       md += separator(1, head.size());
       for (std::size_t i = 0; i < r.rows.size(); ++i) {
         std::vector<std::string> line{markdown_cell(r.rows[i])};
-        for (std::size_t c = 0; c < shown; ++c)
+        for (const std::size_t c : shown)
           line.push_back(which == 0 ? ours_text(r.cells[b][i][c]) : paper_text(r.cells[b][i][c].paper));
         md += markdown_row(line);
       }
@@ -186,7 +199,7 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
     // first times out everywhere (the paper's first X; ours: every trial stopped).
     md += "\nfastest per column (paper / ours):";
     std::size_t agree = 0;
-    for (std::size_t c = 0; c < run; ++c) {
+    for (const std::size_t c : run) {
       std::size_t pb = r.rows.size(), ob = r.rows.size();
       for (std::size_t i = 0; i < r.rows.size(); ++i) {
         const SweepCell& x = r.cells[b][i][c];
@@ -198,7 +211,7 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
       agree += ps == os ? 1 : 0;
       md += fmt::format(" {} {} / {};", r.columns[c], ps, os);
     }
-    md += fmt::format(" the same in {} of {} columns.\n", agree, run);
+    md += fmt::format(" the same in {} of {} columns.\n", agree, run.size());
     md += "\nfirst column where every trial timed out (paper X / ours X):";
     for (std::size_t i = 0; i < r.rows.size(); ++i) {
       std::string px = "none", ox = "none";
@@ -207,21 +220,31 @@ std::string to_markdown(const SweepReport& r, const ReportHeader& header) {
           px = r.columns[c];
           break;
         }
-      for (std::size_t c = 0; c < run; ++c)
+      for (const std::size_t c : run)
         if (r.cells[b][i][c].all_stopped() || r.cells[b][i][c].skipped) {
           ox = r.columns[c];
           break;
         }
       md += fmt::format(" {} {} / {};", r.rows[i], px, ox);
     }
-    md += fmt::format(" (ours only up to {}).\n", run ? r.columns[run - 1] : std::string("–"));
+    bool prefix = true;  // the run columns are the first ones
+    for (std::size_t k = 0; k < run.size(); ++k) prefix = prefix && run[k] == k;
+    if (run.empty())
+      md += " (ours: no column).\n";
+    else if (prefix)
+      md += fmt::format(" (ours only up to {}).\n", r.columns[run.back()]);
+    else {
+      std::vector<std::string> labels;
+      for (const std::size_t c : run) labels.push_back(r.columns[c]);
+      md += fmt::format(" (ours only in {}).\n", fmt::join(labels, ", "));
+    }
     md += "\nstatistics per cell (time in seconds; ≥: the cell has stopped trials, so mean and median are lower "
           "bounds):\n\n";
     md += markdown_row({"method", "column", "n", "falsified", "stopped", "time mean", "time median", "time std",
                         "time 95% CI", "nodes mean", "nodes median", "nodes std", "nodes 95% CI"});
     md += separator(2, 13);
     for (std::size_t i = 0; i < r.rows.size(); ++i)
-      for (std::size_t c = 0; c < run; ++c) {
+      for (const std::size_t c : run) {
         const SweepCell& x = r.cells[b][i][c];
         const auto bound = [&](std::string text) { return x.censored() && text != kMissing ? "≥" + text : text; };
         const auto interval = [&](const SampleSummary& s, auto format) {

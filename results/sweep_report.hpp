@@ -48,6 +48,10 @@ struct SweepReport {
 SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
                               int columns_run, bool skip_after_all_stopped = false);
+// The same with the columns run given one flag each (columns_run of core/paper_table.hpp).
+SweepReport make_sweep_report(const PaperTable& table,
+                              const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
+                              const std::vector<bool>& run, bool skip_after_all_stopped = false);
 
 // Markdown: per block our cells and the paper's, the fastest method and first X per column, a
 // statistics table (per row and run column: n, falsified, stopped, then mean, median, std and

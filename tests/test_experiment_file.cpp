@@ -50,6 +50,7 @@ Json settings_json(const Settings& s) {
 Json profile_json(const TableProfile& p) {
   return {{"trials", p.trials},      {"timeout_s", p.timeout_s}, {"max_nodes", p.max_nodes},
           {"settings", settings_json(p.settings)}, {"instances", p.instances}, {"columns", p.columns},
+          {"column_labels", p.column_labels},
           {"row_timeout_s", p.row_timeout_s}, {"skip_after_all_stopped", p.skip_after_all_stopped}};
 }
 Json sweep_values_json(const std::vector<SweepValue>& values) {
@@ -206,6 +207,57 @@ TEST(PaperTableFiles, ReadsAFullProfileWithPerRowCaps) {
   EXPECT_EQ(t.full->timeout_for("A"), 5.0);
   EXPECT_EQ(t.full->timeout_for("B"), 2.5);
   EXPECT_FALSE(t.full->skip_after_all_stopped);
+}
+
+// A sweep profile's columns by label: the labels must be the sweep's, each once.
+constexpr const char* kSweep = R"(id = "tiny-sweep"
+title = "t"
+source = "s"
+suite = "navigation"
+[[rows]]
+label = "H"
+method = "hydice"
+[sweep]
+instance_key = "property"
+paper_timeout_s = 10.0
+columns = [{ label = "1²", settings = { n = 1 } }, { label = "2²", settings = { n = 2 } }, { label = "4²", settings = { n = 4 } }]
+paper = [[[0.1, 0.2, 0.3]]]
+[profile.smoke]
+trials = 1
+timeout_s = 1
+max_nodes = 10
+columns = ["1²", "4²"]
+[profile.quick]
+trials = 1
+timeout_s = 1
+max_nodes = 10
+columns = 2
+[profile.paper]
+trials = 1
+timeout_s = 1
+max_nodes = 10
+)";
+
+TEST(PaperTableFiles, ReadsASweepProfilesColumnsByLabel) {
+  const PaperTable t = load_paper_table(kSweep, "sweep.toml");
+  EXPECT_EQ(t.smoke.column_labels, (std::vector<std::string>{"1²", "4²"}));
+  EXPECT_EQ(columns_run(*t.sweep, t.smoke), (std::vector<bool>{true, false, true}));
+  EXPECT_EQ(columns_run(*t.sweep, t.quick), (std::vector<bool>{true, true, false}));
+  EXPECT_EQ(columns_run(*t.sweep, t.paper), (std::vector<bool>{true, true, true}));
+  for (const auto& [bad, key] : std::vector<std::pair<std::string, std::string>>{
+           {R"(columns = ["1²", "8²"])", "profile.smoke.columns[1]"},
+           {R"(columns = ["1²", "1²"])", "profile.smoke.columns[1]"},
+           {R"(columns = [])", "profile.smoke.columns"}}) {
+    std::string text = kSweep;
+    text.replace(text.find(R"(columns = ["1²", "4²"])"), std::string(R"(columns = ["1²", "4²"])").size(), bad);
+    try {
+      (void)load_paper_table(text, "sweep.toml");
+      ADD_FAILURE() << bad;
+    } catch (const ExperimentFileError& e) {
+      EXPECT_NE(std::string(e.what()).find("sweep.toml:17:"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
 }
 
 struct BadFile {

@@ -422,4 +422,54 @@ TEST(SweepReport, TenTrialsPerCellGiveSignificantVerdicts) {
 }
 
 }  // namespace
+// A profile that runs some columns (the paper profile's columns by label) and skips a row's
+// columns after its first all-stopped one.
+TEST(SweepReport, ShowsOnlyTheColumnsRunAndMarksSkippedCells) {
+  PaperTable t;
+  t.id = "sweep";
+  t.rows = {{"RRT", "rrt", {}, {}}, {"HyDICE", "hydice", {}, {}}};
+  TableSweep sw;
+  sw.columns = {{"2²", {{"n", "2"}}}, {"4²", {{"n", "4"}}}, {"8²", {{"n", "8"}}}, {"16²", {{"n", "16"}}}};
+  sw.instance_key = "property";
+  sw.paper = {{{0.1, 0.3, kPaperTimeout, kPaperTimeout}, {0.4, 0.6, 1.2, 2.0}}};
+  sw.paper_timeout_s = 3600;
+  t.sweep = sw;
+  TableProfile profile;
+  profile.column_labels = {"2²", "8²", "16²"};  // not 4²
+  const std::vector<bool> run = columns_run(*t.sweep, profile);
+  EXPECT_EQ(run, (std::vector<bool>{true, false, true, true}));
+  using Cells = std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>;
+  Cells trials(1, std::vector<std::vector<std::vector<TrialRecord>>>(2, std::vector<std::vector<TrialRecord>>(4)));
+  trials[0][0][0] = {trial(10, 30.0, TrialStatus::timeout), trial(10, 30.0, TrialStatus::timeout)};  // RRT: X
+  trials[0][1][0] = {trial(10, 0.5), trial(10, 1.5)};
+  trials[0][1][2] = {trial(10, 1.0), trial(10, 2.0)};
+  trials[0][1][3] = {trial(10, 3.0), trial(10, 4.0)};
+  const SweepReport r = make_sweep_report(t, trials, run, true);
+  EXPECT_TRUE(r.cells[0][0][0].all_stopped());
+  EXPECT_FALSE(r.cells[0][0][1].run);
+  EXPECT_FALSE(r.cells[0][0][1].skipped);  // not run by the profile: not a skip
+  EXPECT_TRUE(r.cells[0][0][2].skipped);
+  EXPECT_TRUE(r.cells[0][0][3].skipped);
+  EXPECT_FALSE(r.cells[0][1][3].skipped);
+  ReportHeader h;
+  h.profile = "paper";
+  h.skip_after_all_stopped = true;
+  h.timeout_s = 60;
+  h.row_timeout_s = {{"RRT", 30.0}};
+  h.trials_run = 8;
+  h.cpu_s = 7200;
+  const std::string md = to_markdown(r, h);
+  EXPECT_NE(md.find("| method | 2² | 8² | 16² |\n"), std::string::npos) << md;  // ours: the columns run
+  EXPECT_NE(md.find("| method | 2² | 4² | 8² | 16² |\n"), std::string::npos) << md;  // the paper's: all
+  EXPECT_NE(md.find("| RRT | X (≥30.0) [0/2] | X (skipped) | X (skipped) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("timeout 60 s (RRT 30 s)"), std::string::npos) << md;
+  EXPECT_NE(md.find("- CPU time: 2.00 h over 8 trials"), std::string::npos) << md;
+  EXPECT_NE(md.find("RRT 8² / 2²;"), std::string::npos) << md;  // first X: paper 8², ours 2²
+  EXPECT_NE(md.find("(ours only in 2², 8², 16²)"), std::string::npos) << md;
+  const std::string csv = to_csv(r, h);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 6);  // 2 rows x 3 run columns
+  EXPECT_NE(csv.find(",RRT,rrt,8²,X,,,0,0,,0,0,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find(",4²,"), std::string::npos) << csv;
+}
+
 }  // namespace hyfal
