@@ -32,6 +32,7 @@ int cmd_run_experiment(const ExperimentArgs& a) {
   options.plan = a.plan;
   options.progress = !a.quiet && isatty(STDERR_FILENO);
   options.quiet = a.quiet;
+  options.save_trees = a.save_trees;
   check_directory_creatable(a.out_dir, "--out-dir");
   check_directory_creatable(a.witness_dir, "--witness-dir");
 

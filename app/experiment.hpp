@@ -12,6 +12,7 @@ struct ExperimentArgs {
   std::string shard;  // --shard i/K, empty for all trials
   bool plan = false;  // --plan: print the sizing and run nothing
   bool quiet = false; // no progress line or resuming note
+  bool save_trees = false;  // --save-trees
 };
 
 // Reads and checks the file and resolves every group before anything is written (a bad file or

@@ -117,6 +117,7 @@ struct RunArgs {
   bool quiet = false;
   std::string shard;  // --shard i/K, empty for all trials
   bool plan = false;  // --plan: print the sizing and run nothing
+  bool save_trees = false;  // --save-trees: each witness's search tree(s) beside it
 };
 
 int cmd_run(const RunArgs& a) {
@@ -148,6 +149,7 @@ int cmd_run(const RunArgs& a) {
   options.plan = a.plan;
   options.progress = !a.quiet && isatty(STDERR_FILENO);
   options.quiet = a.quiet;
+  options.save_trees = a.save_trees;
   const auto run = cli::run_groups(fmt::format("{} on {}", method->name, suite->name), {&group}, options);
   if (!run) return 0;  // --plan
   const std::vector<TrialRecord>& rows = run->trials[0];
@@ -402,6 +404,10 @@ int run_command(int argc, char** argv) {
                 "run nothing and write nothing");
   run->add_option("--out-dir", xa.out_dir, "with an experiment file: where NAME.md and NAME.csv are written")
       ->capture_default_str();
+  run->add_flag("--save-trees", ra.save_trees,
+                "beside each witness F.json also write F.tree.csv: the trial's search tree(s), per node its parent, "
+                "mode and state (at most 50000 edges, subsampled deterministically); results do not change; not "
+                "under mpirun");
 
   std::string tdb = "results/hyfal.sqlite", texp, tformat = "md", tout;
   auto* table = app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
@@ -463,7 +469,9 @@ int run_command(int argc, char** argv) {
       "plot", "figures (PNG and SVG, Debian's python3-matplotlib): of the tables 'reproduce' wrote, or of one witness");
   plot->add_option("tables_dir", plot_args.tables_dir, "a folder of tables from 'hyfal reproduce' (ID.csv, ID-SERIES.csv)");
   plot->add_option("--witness", plot_args.witness,
-                   "a witness JSON file: its path (navigation: over the maze; aircraft: the conflict; blimp: the tower)");
+                   "a witness JSON file: its path (navigation: over the maze; aircraft: the conflict; blimp: the tower), "
+                   "with the search tree under it when F.tree.csv (hyfal run --save-trees) is beside F.json");
+  plot->add_option("--tree", plot_args.tree, "with --witness: the tree file to draw (default: F.tree.csv beside F.json)");
   plot->add_option("--out", plot_args.out,
                    "tables: the folder for the figures (default TABLES_DIR); witness: F.png, F.svg beside it "
                    "(default: the witness's path with .png)");
@@ -511,6 +519,7 @@ int run_command(int argc, char** argv) {
       xa.shard = ra.shard;
       xa.plan = ra.plan;
       xa.quiet = ra.quiet;
+      xa.save_trees = ra.save_trees;
       return cli::cmd_run_experiment(xa);
     }
     if (*table) return cmd_table(tdb, texp, tformat, tout);

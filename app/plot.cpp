@@ -134,12 +134,18 @@ int cmd_plot(const PlotArgs& a) {
     throw UsageError(a.witness.empty() ? "give a tables folder (hyfal plot TABLES_DIR) or --witness FILE"
                                        : "give a tables folder or --witness FILE, not both");
   std::string script_name = "plot_tables.py", out = a.out;
+  if (!a.tree.empty() && a.witness.empty()) throw UsageError("--tree goes with --witness (the tree drawn under its path)");
   if (!a.witness.empty()) {
     script_name = "plot_witness.py";
     try {
       (void)witness_from_text(read_input_file(a.witness));
     } catch (const WitnessError& e) {
       throw UsageError(one_line(fmt::format("--witness '{}': {}", a.witness, e.what())));
+    }
+    if (!a.tree.empty()) {
+      std::error_code ec;
+      if (!fs::is_regular_file(a.tree, ec) || access(a.tree.c_str(), R_OK) != 0)
+        throw UsageError(one_line(fmt::format("--tree '{}': not a readable file", a.tree)));
     }
     if (!a.out_given) out = fs::path(a.witness).replace_extension(".png").string();
     check_output_path(out, "--out");
@@ -178,6 +184,10 @@ int cmd_plot(const PlotArgs& a) {
   if (!out.empty()) {
     command.push_back("--out");
     command.push_back(out);
+  }
+  if (!a.tree.empty()) {
+    command.push_back("--tree");
+    command.push_back(a.tree);
   }
   const ProgramRun run = run_program(command, false);
   if (run.exit_code < 0) {

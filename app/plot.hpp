@@ -10,6 +10,7 @@ struct PlotArgs {
   std::string tables_dir;  // hyfal plot TABLES_DIR: every figure of the CSVs there
   std::string witness;     // hyfal plot --witness FILE: a picture of one witness
   std::string out;         // a folder (tables) or F.png (witness; F.svg beside it)
+  std::string tree;        // --tree T.csv: the search tree drawn under the witness (default: F.tree.csv beside it)
   bool out_given = false;  // --out was given (else the default: TABLES_DIR, the witness's path)
 };
 

@@ -300,7 +300,10 @@ std::optional<GroupsRun> run_groups(const std::string& what, const std::vector<c
     (void)print_plan(what, groups, o.shard, o.db);
     return std::nullopt;
   }
+  if (o.save_trees && Cluster::current() && Cluster::current()->size() > 1)
+    throw UsageError("--save-trees: not under mpirun (the workers' results do not carry trees); run without mpirun");
   GroupsRun run{TrialStore::open(o.db), make_engine_options(o.threads, o.witness_dir, o.progress), 0, 0, 0, 0, {}};
+  run.engine.save_trees = o.save_trees;
   std::vector<TrialJob> jobs;
   std::int64_t position = 0;  // of the group's trial 0 in the full job list
   for (const TrialGroup* g : distinct_groups(groups)) {

@@ -123,6 +123,7 @@ struct RunOptions {
   bool plan = false;      // --plan: print the sizing, run nothing, write nothing
   bool progress = false;  // a progress line on stderr (on a terminal)
   bool quiet = false;     // no "resuming" note
+  bool save_trees = false;  // --save-trees: each witness's search tree(s) beside it (EngineOptions)
 };
 
 // What run_groups ran and stored.
@@ -142,7 +143,8 @@ struct GroupsRun {
 // distinct groups (distinct_groups, in this order; a group's trial 0 at the position after the
 // previous group's trials in the job list that --shard divides) that the store does not hold,
 // through run_jobs, noting on stderr how many were already stored (unless quiet), and loads
-// each group's stored trials.
+// each group's stored trials. options.save_trees under mpirun is refused (UsageError) before the
+// database opens: the workers' results do not carry trees.
 std::optional<GroupsRun> run_groups(const std::string& what, const std::vector<const TrialGroup*>& groups,
                                     const RunOptions& options);
 

@@ -7,12 +7,14 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <stop_token>
 #include <string>
 #include <vector>
 
 #include "core/model.hpp"
 #include "core/trajectory.hpp"
+#include "core/tree.hpp"
 #include "core/trial_record.hpp"
 
 namespace hyfal {
@@ -24,6 +26,57 @@ struct PlannerLimits {
   std::int64_t max_nodes = 1'000'000;
 };
 
+// One search tree as its planner left it: per node its parent, mode and state, in the order
+// the nodes were added (a parent comes before its children).
+struct RecordedTree {
+  std::size_t index = 0;             // the tree's index in its planner's forest (0 for one tree)
+  std::vector<std::int64_t> parent;  // -1 at a root
+  std::vector<Mode> mode;
+  std::vector<double> states;  // dim values per node
+};
+
+// The search trees of one trial, for pictures (`hyfal run --save-trees`; the engine writes them
+// beside the witness, parallel/trial_engine.hpp). A planner given one (PlannerContext::trees)
+// copies its node stores into it at the end of solve, after the witness is read off the tree, so
+// recording changes nothing the search does; without one (the default) the planner does nothing
+// more than test a null pointer once.
+class TreeRecorder {
+ public:
+  explicit TreeRecorder(std::size_t dim) : dim_(dim) {}
+  std::size_t dim() const { return dim_; }
+  // Copies the published nodes of `nodes` (every one when no writer is active) as tree `index`.
+  void add(std::size_t index, const NodeStore& nodes) {
+    RecordedTree t;
+    t.index = index;
+    const std::size_t count = nodes.size();
+    t.parent.reserve(count);
+    t.mode.reserve(count);
+    t.states.reserve(count * dim_);
+    for (NodeId i = 0; i < count; ++i) {
+      const NodeInfo& info = nodes.info(i);
+      t.parent.push_back(info.parent == kNoNode ? -1 : static_cast<std::int64_t>(info.parent));
+      t.mode.push_back(info.mode);
+      const auto x = nodes.state(i);
+      t.states.insert(t.states.end(), x.begin(), x.end());
+    }
+    add(std::move(t));
+  }
+  // A tree built elsewhere (OMPL's PlannerData): parent[i] < i or -1, states.size() == dim * nodes.
+  void add(RecordedTree tree) {
+    if (tree.states.size() != tree.parent.size() * dim_ || tree.mode.size() != tree.parent.size())
+      throw std::logic_error("TreeRecorder: a tree's states, modes and parents differ in length");
+    for (std::size_t i = 0; i < tree.parent.size(); ++i)
+      if (tree.parent[i] >= static_cast<std::int64_t>(i) || tree.parent[i] < -1)
+        throw std::logic_error("TreeRecorder: a node's parent must come before it");
+    trees_.push_back(std::move(tree));
+  }
+  const std::vector<RecordedTree>& trees() const { return trees_; }
+
+ private:
+  std::size_t dim_;
+  std::vector<RecordedTree> trees_;
+};
+
 struct PlannerContext {
   const System& system;
   std::span<const double> parameters;  // p, for methods that do not search P
@@ -33,6 +86,8 @@ struct PlannerContext {
   // The trial's CPU clock: task bodies a planner runs on other threads go through cpu->task()
   // (core/trial_cpu.hpp) so that cpu_s counts them; null outside the trial engine.
   TrialCpuClock* cpu = nullptr;
+  // Where the planner copies its search tree(s) at the end of solve (TreeRecorder); null: nowhere.
+  TreeRecorder* trees = nullptr;
 };
 
 struct PlannerCounters {

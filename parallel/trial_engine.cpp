@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -12,6 +13,8 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <mutex>
 
 #include <fmt/format.h>
@@ -85,6 +88,102 @@ std::string witness_path(const std::string& dir, const TrialKey& key) {
       .string();
 }
 
+std::string tree_path(const std::string& witness_path) {
+  fs::path p(witness_path);
+  p.replace_extension(".tree.csv");
+  return p.string();
+}
+
+namespace {
+
+// Per node of one tree, how many nodes its subtree holds (itself included): parents come before
+// their children, so one pass from the last node adds each subtree into its parent's.
+std::vector<std::uint64_t> subtree_sizes(const RecordedTree& t) {
+  std::vector<std::uint64_t> size(t.parent.size(), 1);
+  for (std::size_t i = t.parent.size(); i-- > 0;)
+    if (t.parent[i] >= 0) size[static_cast<std::size_t>(t.parent[i])] += size[i];
+  return size;
+}
+
+// A state name as a CSV header cell (no separators, quotes or line breaks).
+std::string header_cell(std::string name) {
+  for (char& ch : name)
+    if (ch == ',' || ch == '"' || ch == '\n' || ch == '\r') ch = '_';
+  return name;
+}
+
+}  // namespace
+
+std::string tree_file_text(const TreeRecorder& recorder, const SystemInfo& info, std::size_t max_edges,
+                           std::size_t max_values) {
+  std::vector<const RecordedTree*> trees;
+  for (const RecordedTree& t : recorder.trees()) trees.push_back(&t);
+  std::stable_sort(trees.begin(), trees.end(), [](const auto* a, const auto* b) { return a->index < b->index; });
+  const std::size_t dim = recorder.dim();
+  std::size_t nodes = 0, roots = 0;
+  for (const RecordedTree* t : trees) {
+    nodes += t->parent.size();
+    roots += static_cast<std::size_t>(std::count(t->parent.begin(), t->parent.end(), std::int64_t{-1}));
+  }
+  // Within the limits every node is kept. Beyond them, the nodes whose subtree holds at least s
+  // nodes, for the smallest s within both: the trunk and the branches of each tree without their
+  // last twigs, so the picture keeps the tree's shape and reach (a node kept keeps its parent,
+  // whose subtree is larger). Roots are always kept.
+  std::vector<std::vector<std::uint64_t>> sizes;
+  std::vector<std::uint64_t> non_root_sizes;
+  for (const RecordedTree* t : trees) {
+    sizes.push_back(subtree_sizes(*t));
+    for (std::size_t i = 0; i < t->parent.size(); ++i)
+      if (t->parent[i] >= 0) non_root_sizes.push_back(sizes.back()[i]);
+  }
+  const std::size_t value_room = dim == 0 ? nodes : max_values / dim;  // nodes the values allow
+  const std::size_t edge_room = std::min(max_edges, value_room > roots ? value_room - roots : 0);
+  std::uint64_t s = 1;
+  if (non_root_sizes.size() > edge_room) {
+    // The (edge_room + 1)-th largest size plus one: at most edge_room nodes have a size >= s.
+    std::nth_element(non_root_sizes.begin(), non_root_sizes.begin() + static_cast<std::ptrdiff_t>(edge_room),
+                     non_root_sizes.end(), std::greater<>());
+    s = non_root_sizes[edge_room] + 1;
+  }
+  std::size_t kept = 0;
+  for (std::size_t ti = 0; ti < trees.size(); ++ti)
+    for (std::size_t i = 0; i < trees[ti]->parent.size(); ++i) kept += trees[ti]->parent[i] < 0 || sizes[ti][i] >= s;
+
+  std::string text = "# hyfal-tree/1: the search tree(s) of the trial whose witness is beside this file (hyfal run --save-trees)\n";
+  text += "# one row per node: tree (its index in the method's forest), node (its row in the tree), parent (the parent's "
+          "node; -1 at a root; a parent comes before its children), mode, state\n";
+  if (s == 1)
+    text += fmt::format("# nodes: {} in {} tree(s), every node\n", nodes, trees.size());
+  else
+    text += fmt::format(
+        "# nodes: {} of {} in {} tree(s), subsampled: the roots and the nodes whose subtree holds at least {} nodes "
+        "(the trunk and branches without their last twigs; at most {} edges and {} state values)\n",
+        kept, nodes, trees.size(), s, max_edges, max_values);
+  text += "tree,node,parent,mode";
+  for (std::size_t d = 0; d < dim; ++d) {
+    text += ',';
+    text += header_cell(d < info.state_names.size() && !info.state_names[d].empty() ? info.state_names[d]
+                                                                                  : fmt::format("x{}", d));
+  }
+  text += "\n";
+  std::vector<std::int64_t> row_of;
+  for (std::size_t ti = 0; ti < trees.size(); ++ti) {
+    const RecordedTree& t = *trees[ti];
+    row_of.assign(t.parent.size(), -1);
+    std::int64_t rows = 0;
+    for (std::size_t i = 0; i < t.parent.size(); ++i) {
+      if (t.parent[i] >= 0 && sizes[ti][i] < s) continue;
+      row_of[i] = rows;
+      const std::int64_t parent = t.parent[i] < 0 ? -1 : row_of[static_cast<std::size_t>(t.parent[i])];
+      fmt::format_to(std::back_inserter(text), "{},{},{},{}", t.index, rows, parent, t.mode[i]);
+      for (std::size_t d = 0; d < dim; ++d) fmt::format_to(std::back_inserter(text), ",{:.9g}", t.states[i * dim + d]);
+      text += '\n';
+      ++rows;
+    }
+  }
+  return text;
+}
+
 TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
   TrialResult result;
   TrialRecord& rec = result.record;
@@ -98,8 +197,10 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
   try {
     auto planner = job.method->make(job.method_options);
     const SystemInfo& info = job.system->info();
+    std::optional<TreeRecorder> trees;
+    if (options.save_trees) trees.emplace(info.dim());
     const PlannerContext ctx{*job.system, info.parameters, static_cast<std::uint64_t>(job.seed),
-                             job.limits, options.cancel, &cpu};
+                             job.limits, options.cancel, &cpu, trees ? &*trees : nullptr};
     PlannerOutcome out = planner->solve(ctx);
     rec.nodes = out.counters.nodes;
     rec.propagations = out.counters.propagations;
@@ -117,15 +218,18 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
         rec.status = TrialStatus::error;
         rec.error = "witness failed validation: " + report.reason;
       }
+      if (trees) result.tree_text = tree_file_text(*trees, info);
     }
   } catch (const std::exception& e) {
     rec.status = TrialStatus::error;
     rec.validated = false;  // no witness vouches for it
     result.witness_text.clear();
+    result.tree_text.clear();
     rec.error = e.what();
   } catch (...) {
     rec.validated = false;
     result.witness_text.clear();
+    result.tree_text.clear();
     rec.status = TrialStatus::error;
     rec.error = "unknown exception";
   }
@@ -138,6 +242,7 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
 void keep_witness(TrialResult& result, const std::string& witness_dir) {
   if (result.witness_text.empty() || witness_dir.empty()) return;
   const std::string path = witness_path(witness_dir, result.record.key);
+  if (!result.tree_text.empty()) write_file_atomically(tree_path(path), result.tree_text);  // never a witness without it
   write_file_atomically(path, result.witness_text);
   result.record.witness = path;
 }

@@ -32,6 +32,9 @@ struct EngineOptions {
   bool progress = false;    // a progress line on stderr
   std::string host, git_commit;
   std::stop_token cancel;
+  // --save-trees: a falsifying trial's search tree(s) go beside its witness (tree_path), as
+  // tree_file_text writes them. Off, the planners record nothing (PlannerContext::trees null).
+  bool save_trees = false;
 };
 
 // A failure of the machine, not of the input or of a trial: a witness that cannot be written
@@ -52,6 +55,7 @@ using TrialClaim = std::function<bool(const TrialJob&)>;
 struct TrialResult {
   TrialRecord record;
   std::string witness_text;  // empty when the trial has no witness
+  std::string tree_text;     // with EngineOptions::save_trees and a witness: its tree file
 };
 
 // Runs one trial on the calling thread (and the arena's threads that help it) and writes
@@ -60,8 +64,8 @@ struct TrialResult {
 TrialResult compute_trial(const TrialJob& job, const EngineOptions& options);
 
 // Writes the witness text (if any) to witness_path(witness_dir, key) atomically and records the
-// path; nothing without a witness or a folder. Throws EnvironmentError if it cannot be written
-// (no temporary file is left).
+// path, and the tree text (if any) to tree_path of it first; nothing without a witness or a
+// folder. Throws EnvironmentError if it cannot be written (no temporary file is left).
 void keep_witness(TrialResult& result, const std::string& witness_dir);
 
 // compute_trial, then keep_witness(options.witness_dir): the record as it is stored.
@@ -77,6 +81,23 @@ void run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options,
 
 // Where the witness of a trial goes: DIR/EXPERIMENT/SUITE/METHOD/<hash of instance+config>-t<index>.json
 std::string witness_path(const std::string& dir, const TrialKey& key);
+
+// The tree file beside a witness (--save-trees): F.json -> F.tree.csv.
+std::string tree_path(const std::string& witness_path);
+
+// A tree file (format hyfal-tree/1, CSV): '#' comment lines saying what it holds, then a header
+// row `tree,node,parent,mode,<state names>` and one row per node: the tree's index in the
+// method's forest (trees in index order), the node's row within its tree, its parent's row (-1
+// at a root; a parent's row is below its child's), its mode and its state (9 significant
+// digits). More than max_edges edges (nodes that are not roots), or more than max_values state
+// values, are subsampled deterministically: the roots and the nodes whose subtree holds at least
+// s nodes, for the smallest s within both limits (each tree's trunk and branches without their
+// last twigs: every kept edge is an edge of the tree, and the tree keeps its reach); a comment
+// line says so and gives s.
+inline constexpr std::size_t kTreeFileMaxEdges = 50'000;
+inline constexpr std::size_t kTreeFileMaxValues = 2'000'000;
+std::string tree_file_text(const TreeRecorder& trees, const SystemInfo& info, std::size_t max_edges = kTreeFileMaxEdges,
+                           std::size_t max_values = kTreeFileMaxValues);
 
 int default_thread_count();
 std::string iso8601_now();

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """A picture of one witness (a `hyfal-witness/1` JSON file; README: "Witnesses").
 
-Usage: /usr/bin/python3 scripts/plot_witness.py WITNESS.json --hyfal BIN [--out F.png]
+Usage: /usr/bin/python3 scripts/plot_witness.py WITNESS.json --hyfal BIN [--out F.png] [--tree T.csv]
 
 Writes F.png and F.svg (default: the witness's path with .png and .svg for .json):
 
@@ -20,7 +20,17 @@ Writes F.png and F.svg (default: the witness's path with .png and .svg for .json
 
 A witness stores each piece's start and end state, not the states in between: the path is drawn
 as straight segments x_start -> x_end per piece (a coarse picture of curved motion, e.g. an
-aircraft's half circle in 5 pieces). The search tree is not in a witness and is not drawn.
+aircraft's half circle in 5 pieces).
+
+The search tree is not in a witness. `hyfal run --save-trees` writes it beside the witness, F.json
+-> F.tree.csv (format hyfal-tree/1: per node its tree, parent, mode and state; large trees
+subsampled, see parallel/trial_engine.hpp); when that file is there (or given with --tree), its
+edges parent -> node are drawn under the path, thin and light grey, projected as the path is:
+navigation (x, y), blimp (x, y) as a map, other suites the first two state dimensions. Aircraft:
+every aircraft's tree would cover the picture, so only the two aircraft in conflict have theirs
+drawn (each node's position of aircraft i and of aircraft j), in the overview panel. Edges are
+straight segments between node states, like the path's pieces. In the SVG the tree is a bitmap
+(rasterized), so that 50,000 edges do not make it megabytes.
 
 Bad input (unreadable file, not a witness, an instance the binary refuses): one line on stderr,
 exit 2. matplotlib missing: one line saying what to install, exit 3. Output is deterministic.
@@ -75,6 +85,67 @@ def read_witness(path):
     return w
 
 
+def read_tree(path, dims):
+    """The edges of a hyfal-tree/1 file as (parent states, node states, nodes, subsampled): the
+    states are lists of per-node state lists; InputError for a file that is not one."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: cannot read a tree file: {e}") from e
+    comments = [line for line in lines if line.startswith("#")]
+    rows = [line for line in lines if line and not line.startswith("#")]
+    if not comments or not comments[0].startswith("# hyfal-tree/1") or not rows:
+        raise InputError(f"{path}: not a hyfal-tree/1 file")
+    header = rows[0].split(",")
+    if header[:4] != ["tree", "node", "parent", "mode"] or len(header) != 4 + dims:
+        raise InputError(f"{path}: header is not tree,node,parent,mode and {dims} state columns (the witness's)")
+    parents, children = [], []
+    states = {}  # (tree, node) -> state
+    nodes = 0
+    for number, row in enumerate(rows[1:], start=2):
+        cells = row.split(",")
+        try:
+            if len(cells) != len(header):
+                raise ValueError(f"{len(cells)} cells, expected {len(header)}")
+            tree, node, parent = int(cells[0]), int(cells[1]), int(cells[2])
+            x = [float(v) for v in cells[4:]]
+            if parent >= node or parent < -1:
+                raise ValueError(f"parent {parent} does not come before node {node}")
+            if parent >= 0 and (tree, parent) not in states:
+                raise ValueError(f"parent {parent} of node {node} is not in tree {tree}")
+        except ValueError as e:
+            raise InputError(f"{path}: row {number}: {e}") from e
+        states[(tree, node)] = x
+        nodes += 1
+        if parent >= 0:
+            parents.append(states[(tree, parent)])
+            children.append(x)
+    subsampled = any("subsampled" in line for line in comments)
+    return parents, children, nodes, subsampled
+
+
+def tree_file_of(witness_path, given):
+    """--tree, else F.tree.csv beside F.json when it exists, else None."""
+    if given:
+        return given
+    beside = os.path.splitext(witness_path)[0] + ".tree.csv"
+    return beside if os.path.isfile(beside) else None
+
+
+def draw_tree(ax, tree, ix, iy, swap=False, label=True, zorder=1.5):
+    """The tree's edges in state dimensions (ix, iy) (swap: drawn as (iy, ix), a map), thin and
+    light grey, at zorder (default: under the lines, which matplotlib draws at 2)."""
+    from matplotlib.collections import LineCollection
+    parents, children, nodes, subsampled = tree
+    def point(x):
+        return (x[iy], x[ix]) if swap else (x[ix], x[iy])
+    segments = [(point(a), point(b)) for a, b in zip(parents, children)]
+    what = f"search tree ({nodes} nodes{', subsampled' if subsampled else ''})"
+    ax.add_collection(LineCollection(segments, colors="#a0a0a0", linewidths=0.35, zorder=zorder,
+                                     rasterized=True, label=what if label else None))
+
+
 def export_instance(hyfal, witness):
     """`hyfal instance export` of the witness's suite and instance, as a dict."""
     command = [hyfal, "instance", "export", "--suite", witness["suite"]]
@@ -117,7 +188,7 @@ def title_of(witness, what):
 # Suites
 
 
-def draw_navigation(witness, maze):
+def draw_navigation(witness, maze, tree=None):
     plt = plot_tables.plt
     from matplotlib.collections import LineCollection
     from matplotlib.colors import ListedColormap
@@ -176,6 +247,8 @@ def draw_navigation(witness, maze):
     x0, y0, side = place_box(start_place)
     ax.add_patch(Rectangle((x0, y0), side, side, fill=False, edgecolor="green", linewidth=2.5,
                            zorder=2, label=f"start {place} {start_place}"))
+    if tree:  # above the terrains, walls and places, below the path
+        draw_tree(ax, tree, 0, 1, zorder=2.5)
     ax.plot(xs, ys, color="black", linewidth=1.4, zorder=3, label="witness path")
     ax.plot(xs[0], ys[0], "o", color="green", markersize=7, zorder=4)
     ax.plot(xs[-1], ys[-1], "X", color="red", markersize=9, zorder=4, label="unsafe reached")
@@ -211,7 +284,7 @@ def closest_flying_pair(final_x, final_mode, count):
     return best
 
 
-def draw_aircraft(witness, scene):
+def draw_aircraft(witness, scene, tree=None):
     plt = plot_tables.plt
     from matplotlib.patches import Circle
 
@@ -236,6 +309,9 @@ def draw_aircraft(witness, scene):
         ax.plot(*plane["goal"], "*", color=colour, markersize=9)
     ax.plot([], [], "s", color="grey", label="start")
     ax.plot([], [], "*", color="grey", label="goal")
+    if pair and tree:  # the tree of the pair in conflict only (each node's position of i and of j)
+        for k in pair[:2]:
+            draw_tree(ax, tree, 5 * k, 5 * k + 1, label=k == pair[0])
     if pair:
         i, j, dist = pair
         for k in (i, j):
@@ -261,7 +337,7 @@ def draw_aircraft(witness, scene):
     return fig
 
 
-def draw_blimp(witness):
+def draw_blimp(witness, tree=None):
     plt = plot_tables.plt
     from matplotlib.patches import Circle
 
@@ -276,6 +352,8 @@ def draw_blimp(witness):
                         label=f"tower (collision distance {instance['obstacle_r']:g} m)"))
     ax.add_patch(Circle((BLIMP_GOAL[1], BLIMP_GOAL[0]), BLIMP_GOAL_RADIUS, fill=False,
                         edgecolor="green", linestyle="--", label="goal (within 20 m)"))
+    if tree:
+        draw_tree(ax, tree, 0, 1, swap=True)
     ax.plot(ys, xs, color="black", linewidth=1.4, label="witness path")
     ax.plot(ys[0], xs[0], "o", color="green", markersize=7, label="start")
     ax.plot(ys[-1], xs[-1], "X", color="red", markersize=9, label="collision")
@@ -290,12 +368,15 @@ def draw_blimp(witness):
     return fig
 
 
-def draw_state_plane(witness):
+def draw_state_plane(witness, tree=None):
     plt = plot_tables.plt
     names = witness.get("state_names") or []
     fig, ax = plt.subplots(figsize=(7, 5))
     if len(witness["initial"]["x"]) >= 2:
         xs, ys = path_of(witness, 0, 1)
+        if tree:
+            draw_tree(ax, tree, 0, 1)
+            ax.autoscale_view()
         ax.plot(xs, ys, color="black", linewidth=1.4, marker=".", markersize=4, label="witness path")
         ax.plot(xs[0], ys[0], "o", color="green", markersize=7, label="start")
         ax.plot(xs[-1], ys[-1], "X", color="red", markersize=9, label="unsafe reached")
@@ -312,17 +393,17 @@ def draw_state_plane(witness):
     return fig
 
 
-def draw(witness, hyfal):
+def draw(witness, hyfal, tree=None):
     suite = witness["suite"]
     if suite in ("navigation", "aircraft") and not hyfal:
         raise InputError(f"a {suite} witness needs --hyfal BIN (for `hyfal instance export`)")
     if suite == "navigation":
-        return draw_navigation(witness, export_instance(hyfal, witness))
+        return draw_navigation(witness, export_instance(hyfal, witness), tree)
     if suite == "aircraft":
-        return draw_aircraft(witness, export_instance(hyfal, witness))
+        return draw_aircraft(witness, export_instance(hyfal, witness), tree)
     if suite == "blimp":
-        return draw_blimp(witness)
-    return draw_state_plane(witness)
+        return draw_blimp(witness, tree)
+    return draw_state_plane(witness, tree)
 
 
 def main(argv):
@@ -331,6 +412,8 @@ def main(argv):
     parser.add_argument("--hyfal", help="the hyfal binary (for `hyfal instance export`)")
     parser.add_argument("--out", help="the PNG file (an SVG is written beside it); "
                                       "default: the witness's path with .png")
+    parser.add_argument("--tree", help="a hyfal-tree/1 file (hyfal run --save-trees) to draw under the "
+                                       "path; default: F.tree.csv beside the witness F.json, if there")
     args = parser.parse_args(argv)
     out = args.out or os.path.splitext(args.witness)[0] + ".png"
 
@@ -338,8 +421,10 @@ def main(argv):
         if not out.endswith(".png"):
             raise InputError(f"--out {out}: expected a path ending in .png")
         witness = read_witness(args.witness)
+        tree_file = tree_file_of(args.witness, args.tree)
+        tree = read_tree(tree_file, len(witness["initial"]["x"])) if tree_file else None
         plot_tables.load_matplotlib()
-        fig = draw(witness, args.hyfal)
+        fig = draw(witness, args.hyfal, tree)
         out_dir = os.path.dirname(out) or "."
         plot_tables.make_out_dir(out_dir)
         return plot_tables.save_figure(fig, out_dir, os.path.basename(out)[:-len(".png")])

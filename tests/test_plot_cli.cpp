@@ -112,6 +112,59 @@ TEST_F(PlotTest, WitnessPicturesOfNavigationAircraftAndAnyOtherSuite) {
   EXPECT_TRUE(figures_ok(thermostat.parent_path(), {thermostat.stem().string()}));
 }
 
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// `hyfal run --save-trees` writes F.tree.csv beside the witness F.json (the witness's bytes as
+// without it), and `hyfal plot --witness F.json` draws the tree under the path: in the SVG the
+// tree is one more embedded bitmap (rasterized) than the picture without it. --tree names the
+// file explicitly; a file that is not a tree file is refused in one line.
+TEST_F(PlotTest, WitnessPictureDrawsTheSearchTreeSavedBesideIt) {
+  const Args nav = {"--suite", "navigation", "--method", "hydice", "--set", "n=4"};
+  Args a = {"run", "--trials", "1", "--threads", "1", "--db", "trees.sqlite", "--witness-dir", "trees", "--quiet",
+            "--save-trees"};
+  a.insert(a.end(), nav.begin(), nav.end());
+  const Result run = hyfal(a);
+  ASSERT_EQ(run.code, 0) << run;
+  const auto files = files_under(work() / "trees");
+  ASSERT_EQ(files.size(), 2u) << "the witness and its tree file";
+  fs::path witness, tree;
+  for (const auto& f : files) (f.extension() == ".json" ? witness : tree) = f;
+  ASSERT_EQ(tree.string(), (witness.parent_path() / (witness.stem().string() + ".tree.csv")).string());
+  EXPECT_EQ(read_text(tree).rfind("# hyfal-tree/1", 0), 0u);
+  const fs::path plain = witness_of(nav, "plain");
+  ASSERT_FALSE(HasFailure());
+  EXPECT_EQ(read_text(plain), read_text(witness)) << "--save-trees changes no witness byte";
+
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  Result r = hyfal({"plot", "--witness", witness.string(), "--out", "pictures/with-tree.png"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = hyfal({"plot", "--witness", plain.string(), "--out", "pictures/without.png"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = hyfal({"plot", "--witness", plain.string(), "--tree", tree.string(), "--out", "pictures/given-tree.png"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(figures_ok(work() / "pictures", {"with-tree", "without", "given-tree"}));
+  EXPECT_GT(fs::file_size(work() / "pictures" / "with-tree.png"), 20000u) << "a picture, not an empty canvas";
+  const std::size_t images = count_of(read_text(work() / "pictures" / "without.svg"), "<image");
+  EXPECT_EQ(count_of(read_text(work() / "pictures" / "with-tree.svg"), "<image"), images + 1) << "the tree beside it";
+  EXPECT_EQ(count_of(read_text(work() / "pictures" / "given-tree.svg"), "<image"), images + 1) << "the tree given";
+
+  write_text(work() / "not-a-tree.csv", "tree,node\n0,0\n");
+  const auto before = files_under(work());
+  for (const Args& bad : std::vector<Args>{
+           {"plot", "--witness", plain.string(), "--tree", "not-a-tree.csv", "--out", "pictures/bad.png"},
+           {"plot", "--witness", plain.string(), "--tree", "no-such-tree.csv", "--out", "pictures/bad.png"},
+           {"plot", "pictures", "--tree", tree.string()}}) {
+    r = hyfal(bad);
+    EXPECT_EQ(r.code, 2) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  }
+  EXPECT_EQ(files_under(work()), before) << "nothing written";
+}
+
 TEST_F(PlotTest, BadArgumentsExitTwoInOneLineAndWriteNothing) {
   write_text(work() / "not-a-witness.json", "{\"format\": \"something else\"}");
   fs::create_directories(work() / "empty");

@@ -338,6 +338,8 @@ class EnhancedRrt final : public Planner {
       for (std::size_t i = 0; i < fails.size(); ++i) s.points.emplace_back(static_cast<double>(i), fails[i]);
       out.series.push_back(std::move(s));
     }
+    if (ctx.trees)  // --save-trees: after the search, a copy of each tree
+      for (std::size_t i = 0; i < forest.size(); ++i) ctx.trees->add(i, forest[i].nodes);
     return out;
   }
 

@@ -738,6 +738,7 @@ class HydiceSearch {
   }
 
   bool done() const { return out_.trajectory.has_value(); }
+  const NodeStore& tree() const { return tree_; }
   bool out_of_budget() const { return budget_.exhausted(c_.nodes).has_value(); }
   bool at_node_cap() const { return c_.nodes >= ctx_.limits.max_nodes; }
   Rng& rng() { return rng_; }
@@ -919,6 +920,7 @@ class Hydice final : public Planner {
       BatchStep step(ctx.system, search.budget(), static_cast<std::size_t>(o_.batch));
       search.run(step);
     }
+    if (ctx.trees) ctx.trees->add(0, search.tree());  // --save-trees: after the search, a copy
     return out;
   }
 

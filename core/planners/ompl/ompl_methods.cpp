@@ -18,10 +18,13 @@
 #include "core/planners/ompl/ompl_methods.hpp"
 
 #include <cmath>
+#include <deque>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <ompl/base/PlannerData.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
 #include <ompl/control/PathControl.h>
@@ -173,6 +176,59 @@ Trajectory replay(const Problem& problem, const oc::PathControl& path, std::span
   return trajectory_from_tree(system, propagator.propagator(), tree, leaf, parameters);
 }
 
+// --save-trees: OMPL's own account of the search (PlannerData: its vertices, and an edge from
+// each motion's parent to it), read after the solution was replayed, so recording changes
+// nothing. A vertex's parent is the source of its first incoming edge; the vertices are
+// renumbered breadth-first from the roots, so that a parent comes before its children: the start
+// vertices first, in their order, then any other vertex without a parent that has children. A
+// vertex without any edge that is not a start (SST's copy of its solution's last state, a goal
+// vertex) is not a tree node and is left out.
+void record_search(const ob::Planner& planner, const HybridStateSpace& space, TreeRecorder& recorder) {
+  ob::PlannerData data(planner.getSpaceInformation());
+  planner.getPlannerData(data);
+  const unsigned count = data.numVertices();
+  constexpr unsigned kRoot = ~0u;
+  std::vector<unsigned> parent_of(count, kRoot);
+  std::vector<std::vector<unsigned>> children(count);
+  std::vector<unsigned> incoming;
+  for (unsigned v = 0; v < count; ++v) {
+    incoming.clear();
+    data.getIncomingEdges(v, incoming);
+    if (!incoming.empty()) {
+      parent_of[v] = incoming.front();
+      children[incoming.front()].push_back(v);
+    }
+  }
+  std::deque<unsigned> queue;  // breadth-first, from the roots
+  std::vector<char> queued(count, 0);
+  for (unsigned i = 0; i < data.numStartVertices(); ++i) {
+    const unsigned v = data.getStartIndex(i);
+    if (v < count && parent_of[v] == kRoot && !queued[v]) {
+      queue.push_back(v);
+      queued[v] = 1;
+    }
+  }
+  for (unsigned v = 0; v < count; ++v)
+    if (parent_of[v] == kRoot && !children[v].empty() && !queued[v]) {
+      queue.push_back(v);
+      queued[v] = 1;
+    }
+  RecordedTree tree;
+  std::vector<std::int64_t> renumbered(count, -1);
+  while (!queue.empty()) {
+    const unsigned v = queue.front();
+    queue.pop_front();
+    const auto* s = data.getVertex(v).getState()->as<HybridStateSpace::StateType>();
+    renumbered[v] = static_cast<std::int64_t>(tree.parent.size());
+    tree.parent.push_back(parent_of[v] == kRoot ? -1 : renumbered[parent_of[v]]);
+    tree.mode.push_back(s->mode);
+    const auto x = space.x(s);
+    tree.states.insert(tree.states.end(), x.begin(), x.end());
+    for (const unsigned c : children[v]) queue.push_back(c);
+  }
+  recorder.add(std::move(tree));
+}
+
 class OmplPlanner final : public Planner {
  public:
   explicit OmplPlanner(OmplOptions o) : o_(o) {}
@@ -193,6 +249,7 @@ class OmplPlanner final : public Planner {
         out.trajectory = trajectory_from_tree(system, *prop, tree, root, ctx.parameters);
         out.status = TrialStatus::falsified;
         out.counters.nodes = 1;
+        if (ctx.trees) ctx.trees->add(0, tree);
         return out;
       }
 
@@ -268,6 +325,7 @@ class OmplPlanner final : public Planner {
     } else {
       throw std::runtime_error(fmt::format("OMPL's {} ended with status '{}'", planner->getName(), status.asString()));
     }
+    if (ctx.trees) record_search(*planner, *problem.space, *ctx.trees);
     return out;
   }
 

@@ -397,6 +397,7 @@ class Rrft final : public Planner {
           }
           ++terminated[static_cast<int>(t->end)];
           record_point(*t, point_of(*t));  // a terminated tree stopped at this round
+          if (ctx.trees) ctx.trees->add(t->index, t->nodes);  // --save-trees: before its nodes are freed
           release(*t);
         }
         active.swap(still);
@@ -506,6 +507,9 @@ class Rrft final : public Planner {
     out.metrics["terminated_coverage"] = terminated[static_cast<int>(TreeEnd::coverage)];
     out.metrics["terminated_stalled"] = terminated[static_cast<int>(TreeEnd::stalled)];
     out.metrics["rounds"] = rounds;
+    if (ctx.trees)  // --save-trees: the trees not released at a termination (recorded there)
+      for (const auto& t : trees)
+        if (t->end == TreeEnd::active) ctx.trees->add(t->index, t->nodes);
     return out;
   }
 

@@ -55,6 +55,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
     out.status = status;
     if (leaf) out.trajectory = trajectory_from_tree(sys, *prop, tree, *leaf, p);
     source.finish(out);
+    if (ctx.trees) ctx.trees->add(0, tree);  // --save-trees: after the search, a copy
     return out;
   };
   if (sys.spec(info.initial_mode, info.initial_state, p) <= 0.0) return finish(root, TrialStatus::falsified);
