@@ -441,6 +441,9 @@ int run_command(int argc, char** argv) {
                         "trial list % K == i), into --db; the table then covers only that database until the "
                         "shard databases are merged ('hyfal merge')")
       ->check(shard_text());
+  reproduce->add_flag("--save-trees", pa.save_trees,
+                      "write each witness's search tree beside it (F.tree.csv; hyfal plot draws it under the path); "
+                      "not under mpirun");
   reproduce->add_flag("--plan", pa.plan,
                       "print the table's cells, trials, per-trial caps and an upper bound of CPU-hours (and what "
                       "--db still lacks), run nothing and write nothing");

@@ -63,6 +63,7 @@ RunOptions run_options(const ReproduceArgs& a) {
   o.witness_dir = a.witness_dir;
   o.shard = shard_option(a.shard);
   o.plan = a.plan;
+  o.save_trees = a.save_trees;
   o.progress = isatty(STDERR_FILENO) != 0;
   return o;
 }

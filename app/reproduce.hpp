@@ -16,6 +16,7 @@ struct ReproduceArgs {
   std::string db = "results/hyfal.sqlite", witness_dir = "results/witnesses", out_dir = "results/tables";
   std::string shard;  // --shard i/K, empty for all trials
   bool plan = false;  // --plan: print the sizing and run nothing
+  bool save_trees = false;  // --save-trees: each witness's search tree(s) beside it
 };
 
 // hyfal reproduce ID --profile P: runs the table's rows (resuming), writes OUT/ID.md and
