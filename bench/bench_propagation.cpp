@@ -219,6 +219,11 @@ void measure_t2go(benchmark::State& state, const std::string& suite) {
   state.SetItemsProcessed(evaluations);
 }
 
+// A control: the same t2go code over a suite whose flow issue 15 left alone (the 2-D
+// thermostat), so that a change in the t2go benchmarks that is code placement, not the flows,
+// shows up here too.
+void BM_TimeToGoThermostat(benchmark::State& state) { measure_t2go(state, "thermostat"); }
+BENCHMARK(BM_TimeToGoThermostat)->MinTime(kShortMinTime);
 void BM_TimeToGoLinear(benchmark::State& state) { measure_t2go(state, "linear"); }
 BENCHMARK(BM_TimeToGoLinear)->MinTime(kShortMinTime);
 void BM_TimeToGoBlimp(benchmark::State& state) { measure_t2go(state, "blimp"); }
