@@ -2,6 +2,7 @@
 // exactly as planners call it: one Propagator made up front, then propagate() per extension.
 #include <cmath>
 #include <cstdint>
+#include <random>
 #include <span>
 #include <string>
 #include <vector>
@@ -9,6 +10,8 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
+#include "core/metrics/time_to_go.hpp"
+#include "core/nearest.hpp"
 #include "core/system.hpp"
 
 namespace hyfal::bench {
@@ -151,6 +154,82 @@ void BM_PropagateCar5D_dopri5(benchmark::State& state) {
                       kCarDuration, PropagationEnd::completed);
 }
 BENCHMARK(BM_PropagateCar5D_dopri5)->MinTime(kShortMinTime);
+
+// --- The suites that do linear algebra in their flow (issue 15: Eigen or not) -------------
+// One tree extension of each, at its default instance, from its initial state under a corner of
+// U (every term of the flow is active): what a planner pays per propagation.
+
+void measure_suite_propagation(benchmark::State& state, const std::string& suite,
+                               std::vector<double> input) {
+  const auto system = suite_instance(suite);
+  const SystemInfo& info = system->info();
+  const auto propagator = system->make_propagator();
+  measure_propagation(state, *system, *propagator, info.initial_mode, info.initial_state, input,
+                      info.step_duration, PropagationEnd::completed);
+}
+
+// x' = A x + B u + b: δt = 0.25, 5 RK4 steps.
+void BM_PropagateLinear(benchmark::State& state) {
+  measure_suite_propagation(state, "linear", {10.0, 10.0});
+}
+BENCHMARK(BM_PropagateLinear)->MinTime(kShortMinTime);
+
+// The 14-state blimp (rotation matrix, body-axis forces): δt = 4 s, 20 RK4 steps of 0.2 s.
+void BM_PropagateBlimp(benchmark::State& state) {
+  measure_suite_propagation(state, "blimp", {0.3, 0.3});
+}
+BENCHMARK(BM_PropagateBlimp)->MinTime(kShortMinTime);
+
+// The 25-D guard-intruder (four guards' offset points, repulsion, feedback linearization):
+// δt = 1 s, 40 RK4 steps of 0.025 s, patrol mode (no detection within the step). Braking while
+// turning: full throttle would take the intruder from its cruise 10 m/s past max_speed 15 m/s
+// within the step (the invariant would stop the propagation).
+void BM_PropagateGuardIntruder(benchmark::State& state) {
+  measure_suite_propagation(state, "guard-intruder", {-6.0, 0.2617993877991494});
+}
+BENCHMARK(BM_PropagateGuardIntruder)->MinTime(kShortMinTime);
+
+// The time-to-go of seed 000 eq. (III.2) in its closed form for input-affine f (all three suites
+// are): from 64 states x to 64 samples y, both uniform in the suite's sampling box (fixed seed),
+// cycled; items are evaluations, so time_per_item is the cost of one t2go(x, y).
+void measure_t2go(benchmark::State& state, const std::string& suite) {
+  const auto system = suite_instance(suite);
+  const SystemInfo& info = system->info();
+  const std::size_t n = info.dim();
+  constexpr std::size_t kPairs = 64;
+  std::mt19937_64 rng(15);
+  std::vector<double> xs(kPairs * n), ys(kPairs * n);
+  for (std::size_t k = 0; k < kPairs; ++k)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uniform_real_distribution<double> in_box(info.sampling_box.lo[i], info.sampling_box.hi[i]);
+      xs[k * n + i] = in_box(rng);
+      ys[k * n + i] = in_box(rng);
+    }
+  const WeightedEuclidean metric(info.metric_weights);
+  TimeToGo t2go(*system, metric, info.parameters);
+  std::size_t k = 0;
+  std::int64_t evaluations = 0;
+  for (auto _ : state) {
+    const double t = t2go(info.initial_mode, std::span<const double>(xs.data() + k * n, n),
+                          std::span<const double>(ys.data() + k * n, n));
+    benchmark::DoNotOptimize(t);
+    k = (k + 1) % kPairs;
+    ++evaluations;
+  }
+  state.SetItemsProcessed(evaluations);
+}
+
+// A control: the same t2go code over a suite whose flow issue 15 left alone (the 2-D
+// thermostat), so that a change in the t2go benchmarks that is code placement, not the flows,
+// shows up here too.
+void BM_TimeToGoThermostat(benchmark::State& state) { measure_t2go(state, "thermostat"); }
+BENCHMARK(BM_TimeToGoThermostat)->MinTime(kShortMinTime);
+void BM_TimeToGoLinear(benchmark::State& state) { measure_t2go(state, "linear"); }
+BENCHMARK(BM_TimeToGoLinear)->MinTime(kShortMinTime);
+void BM_TimeToGoBlimp(benchmark::State& state) { measure_t2go(state, "blimp"); }
+BENCHMARK(BM_TimeToGoBlimp)->MinTime(kShortMinTime);
+void BM_TimeToGoGuardIntruder(benchmark::State& state) { measure_t2go(state, "guard-intruder"); }
+BENCHMARK(BM_TimeToGoGuardIntruder)->MinTime(kShortMinTime);
 
 }  // namespace
 }  // namespace hyfal::bench

@@ -24,12 +24,19 @@ inline std::vector<double> uniform_cloud(std::size_t count, std::size_t dim, std
   return points;
 }
 
+// An instance of the registered suite `name`: its defaults, with `overrides` as `key=value`
+// settings would give them.
+inline std::shared_ptr<const System> suite_instance(
+    const std::string& name, const std::vector<std::pair<std::string, std::string>>& overrides = {}) {
+  const SuiteEntry* suite = find_suite(name);
+  if (suite == nullptr) throw std::runtime_error("the " + name + " suite is not registered");
+  return suite->make(resolve_options(suite->parameters, overrides));
+}
+
 // A thermostat instance: the defaults, with `overrides` as `key=value` settings would give them.
 inline std::shared_ptr<const System> thermostat(
     const std::vector<std::pair<std::string, std::string>>& overrides = {}) {
-  const SuiteEntry* suite = find_suite("thermostat");
-  if (suite == nullptr) throw std::runtime_error("the thermostat suite is not registered");
-  return suite->make(resolve_options(suite->parameters, overrides));
+  return suite_instance("thermostat", overrides);
 }
 
 // Adds a counter of CPU seconds per one of `count` items (per integration step, per node):

@@ -124,6 +124,12 @@
 //  - Coverage grid: (x, y) over the sampling box, spacing 1 m (191² = 36,481 points).
 //  - input_affine = true.
 //
+// Linear algebra (issue 15): the rotation matrix R is an Eigen::Matrix3d, the kinematics
+// position' = R nu and the air-relative velocity nu_r = nu - R^T wind are written with it, and the
+// state is read through Maps (no copy). The same bits as the scalar code it replaced
+// (tests/test_flow_pinned), no slower within the noise of a shared machine (README, "Eigen in
+// the flows"). The force and moment terms stay scalar (see flow()).
+//
 // Measured (2-core machine shared with other builds, 60 s per trial, `hyfal run --suite blimp
 // --set waypoint_x=.. --set waypoint_y=..`; nodes / seconds):
 //   p = (95, -62.2): rrt 10 of 10: eight in 335-753 nodes (< 0.1 s), two after 126k (21 s) and
@@ -142,6 +148,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "core/system.hpp"
 #include "suites/registry.hpp"
 
@@ -153,6 +161,9 @@ constexpr double kPi = std::numbers::pi;
 
 class Blimp {
  public:
+  using Vec2 = Eigen::Vector2d;
+  using Vec3 = Eigen::Vector3d;
+  using Mat3 = Eigen::Matrix3d;
   static constexpr Mode kToWaypoint = 0, kToGoal = 1, kArrived = 2;
   static constexpr bool input_affine = true;  // u enters only the wind filter, linearly
 
@@ -207,22 +218,28 @@ class Blimp {
     const double sphi = std::sin(s[3]), cphi = std::cos(s[3]);
     const double sth = std::sin(s[4]), cth = std::cos(s[4]);
     const double sps = std::sin(s[5]), cps = std::cos(s[5]);
-    const double r00 = cps * cth, r01 = cps * sth * sphi - sps * cphi, r02 = cps * sth * cphi + sps * sphi;
-    const double r10 = sps * cth, r11 = sps * sth * sphi + cps * cphi, r12 = sps * sth * cphi - cps * sphi;
-    const double r20 = -sth, r21 = cth * sphi, r22 = cth * cphi;
+    // Body to inertial (NED), ZYX Euler angles, element by element (an AngleAxis product would
+    // round differently).
+    Mat3 rot;
+    rot << cps * cth, cps * sth * sphi - sps * cphi, cps * sth * cphi + sps * sphi,
+           sps * cth, sps * sth * sphi + cps * cphi, sps * sth * cphi - cps * sphi,
+           -sth, cth * sphi, cth * cphi;
+    const Eigen::Map<const Vec3> vel(s + 6);    // (u, v, w), body axes
+    const Eigen::Map<const Vec2> wind(s + 12);  // horizontal, inertial
     const double ub = s[6], vb = s[7], wb = s[8], pb = s[9], qb = s[10], rb = s[11];
-    const double wx = s[12], wy = s[13];
-    ds[0] = r00 * ub + r01 * vb + r02 * wb;
-    ds[1] = r10 * ub + r11 * vb + r12 * wb;
-    ds[2] = r20 * ub + r21 * vb + r22 * wb;
+    // position' = R (u, v, w), as the combination of R's columns: summed in column order in
+    // every row. (`rot * vel` would sum rows 0-1 in that order but row 2 pairwise, u + (v + w),
+    // where SSE2 packets of two do not fill a column of three: other bits than the scalar formula.)
+    Eigen::Map<Vec3> position_rate(ds);
+    position_rate = rot.col(0) * vel.x() + rot.col(1) * vel.y() + rot.col(2) * vel.z();
     const double qr = qb * sphi + rb * cphi;
     ds[3] = pb + qr * sth / cth;
     ds[4] = qb * cphi - rb * sphi;
     ds[5] = qr / cth;
-    // Velocity relative to the air, body axes.
-    const double ur = ub - (r00 * wx + r10 * wy);
-    const double vr = vb - (r01 * wx + r11 * wy);
-    const double wr = wb - (r02 * wx + r12 * wy);
+    // Velocity relative to the air, body axes: nu_r = nu - R^T (wind_x, wind_y, 0). The wind's
+    // zero vertical component is left out rather than multiplied (it would add a signed zero).
+    const Vec3 vel_r = vel - rot.topRows<2>().transpose() * wind;
+    const double ur = vel_r.x(), vr = vel_r.y(), wr = vel_r.z();
     // Controller.
     const double tx = q == kToWaypoint ? p[0] : goal_x;
     const double ty = q == kToWaypoint ? p[1] : goal_y;
@@ -232,7 +249,10 @@ class Blimp {
     const double n_c = n_max * std::tanh(jzt * (k_psi * e_psi - k_r * rb) / n_max);
     const double x_c = x_max * std::tanh(mx * k_u * (v_target - ub) / x_max);
     const double z_c = z_max * std::tanh(mz * (-k_z * (s[2] - tz) - k_zd * ds[2]) / z_max);
-    // Aerodynamic forces.
+    // Aerodynamic forces. The rigid-body and added-mass terms (m omega x nu, omega x (A_t nu_r),
+    // nu_r x (A_t nu_r), omega x (J' omega)) stay written out, simplified by hand: as Eigen
+    // cross products they would multiply in another order (q (a_z w_r) for (q a_z) w_r) and
+    // change the flow in its last bits, hence every tree and committed table.
     const double y_f = -c_f * ur * (vr + x_f * rb);
     const double z_f = -c_f * ur * (wr - x_f * qb);
     const double fx = x_c - d_x * reg(ur) - m * (qb * wb - rb * vb) - (qb * a_z * wr - rb * a_y * vr);
@@ -247,8 +267,8 @@ class Blimp {
     ds[9] = mk / jxt;
     ds[10] = mm / jyt;
     ds[11] = mn / jzt;
-    ds[12] = (in[0] - wx) / tau_w;
-    ds[13] = (in[1] - wy) / tau_w;
+    Eigen::Map<Vec2> wind_rate(ds + 12);
+    wind_rate = (Eigen::Map<const Vec2>(in) - wind) / tau_w;  // the wind filter
   }
   bool valid_mode(Mode q) const { return q <= kArrived; }
   int guard_count(Mode q) const { return q == kArrived ? 0 : 1; }

@@ -94,6 +94,11 @@
 // its witness failed validation; with 0.025 s the largest error over 12 adaptive witnesses is
 // 2.9e-8 (5e-7 to 8e-7 at 0.05 s on the same trials), and the time per node barely changes (0.68
 // against 0.67 ms: the search, not the integration, dominates).
+//
+// Why the law is written on scalars, not Eigen (issue 15): the same flow on Eigen::Vector2d (the
+// state as a Map<Matrix<double, 5, 5>>, one column per agent; the same bits) made one extension
+// 1.17x and one t2go 1.14x slower (67.5 against 78.9 µs, hyfal_bench, README "Eigen in the
+// flows"): SSE2 packets of two doubles cost more in packing and unpacking than they save here.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -64,6 +64,10 @@ class TimeToGo {
   }
 
  private:
+  // A plain loop, not Eigen (issue 15): the dimension is known only at run time, and
+  // Map<const VectorXd>::dot sums in SSE2 packets, i.e. in another order, which changes t2go in
+  // its last bits for the 14- and 25-D suites (and so enhanced-rrt's trees; tests/test_flow_pinned)
+  // for no consistent gain (0.94x blimp, 1.04x guard-intruder; README "Eigen in the flows").
   static double dot(const std::vector<double>& a, const std::vector<double>& b) {
     double s = 0.0;
     for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
