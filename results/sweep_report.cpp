@@ -135,7 +135,16 @@ SweepReport make_sweep_report(const PaperTable& table,
         ours.push_back(cell.value);
         samples.push_back(cell.observations);
       }
-      r.orderings[b].push_back(check_ordering(paper, ours, samples, c));
+      OrderingCheck check = check_ordering(paper, ours, samples, c);
+      // A skipped cell has no trials: say why rather than "no value" (the row's X at our cap, in
+      // an earlier column, says nothing about a time beyond that cap).
+      std::vector<std::string> skipped;
+      for (std::size_t i = 0; i < table.rows.size(); ++i)
+        if (r.cells[b][i][c].skipped) skipped.push_back(table.rows[i].label);
+      if (check.verdict == OrderingVerdict::not_checked && !skipped.empty())
+        check.why_not_checked = fmt::format(
+            "{} X (skipped): not run after a column where every trial reached its cap", fmt::join(skipped, ", "));
+      r.orderings[b].push_back(std::move(check));
     }
   }
   return r;

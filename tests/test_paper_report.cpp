@@ -466,6 +466,9 @@ TEST(SweepReport, ShowsOnlyTheColumnsRunAndMarksSkippedCells) {
   EXPECT_NE(md.find("- CPU time: 2.00 h over 8 trials"), std::string::npos) << md;
   EXPECT_NE(md.find("RRT 8² / 2²;"), std::string::npos) << md;  // first X: paper 8², ours 2²
   EXPECT_NE(md.find("(ours only in 2², 8², 16²)"), std::string::npos) << md;
+  EXPECT_NE(md.find("not checked (RRT X (skipped): not run after a column where every trial reached its cap)"),
+            std::string::npos)
+      << md;
   const std::string csv = to_csv(r, h);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 6);  // 2 rows x 3 run columns
   EXPECT_NE(csv.find(",RRT,rrt,8²,X,,,0,0,,0,0,"), std::string::npos) << csv;
