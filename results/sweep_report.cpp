@@ -141,7 +141,8 @@ SweepReport make_sweep_report(const PaperTable& table,
       std::vector<std::string> skipped;
       for (std::size_t i = 0; i < table.rows.size(); ++i)
         if (r.cells[b][i][c].skipped) skipped.push_back(table.rows[i].label);
-      if (check.verdict == OrderingVerdict::not_checked && !skipped.empty())
+      if (check.verdict == OrderingVerdict::not_checked && !skipped.empty() &&
+          check.why_not_checked.find("has no value of ours") != std::string::npos)
         check.why_not_checked = fmt::format(
             "{} X (skipped): not run after a column where every trial reached its cap", fmt::join(skipped, ", "));
       r.orderings[b].push_back(std::move(check));
