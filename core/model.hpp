@@ -17,7 +17,9 @@
 //    and gives the next mode. A guard already positive at the start fires at once. When several
 //    become enabled in one step the earliest wins; at equal times the lower index k wins.
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
-//  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event.
+//  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
+//    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the
+//    integrator then tests each step with it and evaluates spec only where it needs the value.
 #pragma once
 #include <algorithm>
 #include <chrono>

@@ -122,11 +122,26 @@ class ModelPropagator final : public Propagator {
         std::copy(x0_.begin(), x0_.end(), out.begin());
         return r;
       }
-      // Event detection: sign changes within (t, t1].
+      // Event detection: sign changes within (t, t1]. s0 > 0 here (a propagation starting with
+      // s <= 0 returned above, and one whose step ends with s <= 0 returns below), so the unsafe
+      // set is entered exactly when s1 <= 0. A model with outside_unsafe answers that without
+      // the distance (navigation's hypot, 5 % of a HyDICE run), which is then computed only to
+      // localize an entry and for the end state: the same values, so the same bits.
       int event = kNoEvent;  // kSpecEvent, or a guard index
       double event_t = std::numeric_limits<double>::infinity();
-      const double s1 = model_.spec(q, x1_.data(), pp);
-      if (s0 > 0.0 && s1 <= 0.0) {
+      double s1 = 0.0;
+      bool entered;
+      if constexpr (kSpecSign) {
+        entered = !model_.outside_unsafe(q, x1_.data(), pp);
+        if (entered) {
+          s0 = model_.spec(q, x0_.data(), pp);
+          s1 = model_.spec(q, x1_.data(), pp);
+        }
+      } else {
+        s1 = model_.spec(q, x1_.data(), pp);
+        entered = s0 > 0.0 && s1 <= 0.0;
+      }
+      if (entered) {
         event = kSpecEvent;
         event_t = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); },
                          -s0, -s1).second;
@@ -164,6 +179,9 @@ class ModelPropagator final : public Propagator {
     }
     r.end = PropagationEnd::completed;
     r.duration = duration;
+    if constexpr (kSpecSign) {
+      if (t > 0.0) s0 = model_.spec(q, x0_.data(), pp);  // t = 0: no step, s0 is the start's
+    }
     r.spec = s0;
     std::copy(x0_.begin(), x0_.end(), out.begin());
     return r;
@@ -197,6 +215,10 @@ class ModelPropagator final : public Propagator {
   }
 
  private:
+  // M::outside_unsafe(q, x, p): an optional member, exactly spec(q, x, p) > 0 (model.hpp).
+  static constexpr bool kSpecSign = requires(const M m, Mode q, const double* x, const double* p) {
+    { m.outside_unsafe(q, x, p) } -> std::same_as<bool>;
+  };
   static constexpr int kNoEvent = -2;
   static constexpr int kSpecEvent = -1;
 

@@ -394,22 +394,47 @@ class NavigationDecomposition final : public Decomposition {
   NavigationDecomposition(std::shared_ptr<const NavigationInstance> maze, std::uint32_t unsafe_place)
       : maze_(std::move(maze)), unsafe_(maze_->place_mode(unsafe_place)), unsafe_place_(unsafe_place),
         hops_(maze_->terrains(), kFar) {
-    const Mode unsafe = unsafe_;
-    // Breadth-first search from the unsafe terrain through open passages: hops_[q] = the
-    // fewest terrain changes from q to it, each one G_D edge (O(n^2) once; 4 MB at n = 1024).
-    std::vector<std::uint32_t> queue;
-    queue.reserve(maze_->terrains());
-    queue.push_back(static_cast<std::uint32_t>(unsafe));
-    hops_[unsafe] = 0;
-    for (std::size_t head = 0; head < queue.size(); ++head) {
-      const Mode q = queue[head];
-      for (int k = 0; k < 4; ++k) {
-        if (!maze_->open(q, side_of(k))) continue;
-        const Mode r = maze_->neighbour(q, side_of(k));
-        if (hops_[r] != kFar) continue;
-        hops_[r] = hops_[q] + 1;
-        queue.push_back(static_cast<std::uint32_t>(r));
+    // hops_to_unsafe(r) = the fewest G_D edges from region r to a region of the unsafe place:
+    // a breadth-first search over the regions, level by level, from the unsafe place's regions
+    // (G_D is symmetric: the 8-neighbourhood, and an edge across an open side has its reverse).
+    // The exact region distance, not the terrain distance: a lead crosses a terrain in one or
+    // two region edges (two where it enters and leaves on opposite sides), so the terrain hop
+    // count underestimates a lead's length on unreached ground by up to 2x, and the A* of the
+    // lead search (core/planners/hydice) then expanded every region with dist + h below the
+    // lead's cost: 41 k regions a lead at 1024² against 1.2 k with the region distance.
+    // Storage: the four regions of a terrain are mutually adjacent, so their distances differ
+    // by at most 1; one word per terrain holds the smallest (kHopBits bits) and a 4-bit mask of
+    // the regions one farther (4 MB at n = 1024, as the terrain distances took). The search
+    // keeps only the current and the next level, and 4 bits a terrain marking the regions seen.
+    std::vector<std::uint8_t> seen(maze_->terrains(), 0);
+    std::vector<RegionId> level, next, nb;
+    auto visit = [&](RegionId r, std::uint32_t d) {
+      const Mode q = static_cast<Mode>(r / kG2);
+      const std::uint8_t bit = static_cast<std::uint8_t>(1u << (r % kG2));
+      if (seen[q] & bit) return false;
+      seen[q] |= bit;
+      if (hops_[q] == kFar) hops_[q] = d;  // the terrain's first region seen: the smallest
+      else if (d > (hops_[q] & kHopMask)) hops_[q] |= std::uint32_t{bit} << kHopBits;
+      return true;
+    };
+    if (maze_->n() == 1) {
+      visit(unsafe_place_, 0);
+      level.push_back(unsafe_place_);
+    } else {
+      for (RegionId c = 0; c < kG2; ++c) {
+        visit(unsafe_ * kG2 + c, 0);
+        level.push_back(unsafe_ * kG2 + c);
       }
+    }
+    for (std::uint32_t d = 1; !level.empty(); ++d) {
+      if (d > kHopMask) throw std::length_error("navigation: region distances exceed the hop word");
+      next.clear();
+      for (RegionId r : level) {
+        neighbors(r, nb);
+        for (RegionId s : nb)
+          if (visit(s, d)) next.push_back(s);
+      }
+      level.swap(next);
     }
   }
   RegionId region_of(Mode q, std::span<const double> x) const override {
@@ -502,7 +527,8 @@ class NavigationDecomposition final : public Decomposition {
   }
   double hops_to_unsafe(RegionId r) const override {
     const std::uint32_t h = hops_[r / kG2];
-    return h == kFar ? std::numeric_limits<double>::infinity() : static_cast<double>(h);
+    if (h == kFar) return std::numeric_limits<double>::infinity();
+    return static_cast<double>((h & kHopMask) + ((h >> (kHopBits + r % kG2)) & 1u));
   }
   // Ids q g^2 + cell are dense over all modes: the planner's per-region data live in arrays.
   std::uint64_t dense_size() const override { return static_cast<std::uint64_t>(maze_->terrains()) * kG2; }
@@ -515,10 +541,12 @@ class NavigationDecomposition final : public Decomposition {
  private:
   static constexpr RegionId kG2 = static_cast<RegionId>(kRegionGrid) * kRegionGrid;
   static constexpr std::uint32_t kFar = std::numeric_limits<std::uint32_t>::max();
+  static constexpr unsigned kHopBits = 28;  // 2^28 - 1 >= every distance up to n = 8192 (2^28 regions)
+  static constexpr std::uint32_t kHopMask = (std::uint32_t{1} << kHopBits) - 1;
   std::shared_ptr<const NavigationInstance> maze_;
   Mode unsafe_;                 // the unsafe terrain
   std::uint32_t unsafe_place_;  // the property's unsafe place
-  std::vector<std::uint32_t> hops_;  // terrain hops to the unsafe terrain (kFar: unreachable)
+  std::vector<std::uint32_t> hops_;  // per terrain: its regions' distances (see the constructor; kFar: unreachable)
 };
 
 class Navigation {
@@ -580,12 +608,8 @@ class Navigation {
       if (!(beyond(q, k, x) < 0.0) && !maze_->open(q, side_of(k))) return false;
     return true;
   }
-  double spec(Mode, const double* x, const double*) const {
-    const double dx = std::max({unsafe_[0] - x[0], 0.0, x[0] - unsafe_[2]});
-    const double dy = std::max({unsafe_[1] - x[1], 0.0, x[1] - unsafe_[3]});
-    if (dx > 0.0 || dy > 0.0) return std::hypot(dx, dy);
-    return -std::min({x[0] - unsafe_[0], unsafe_[2] - x[0], x[1] - unsafe_[1], unsafe_[3] - x[1]});
-  }
+  double spec(Mode, const double* x, const double*) const { return navigation_box_spec(unsafe_, x); }
+  bool outside_unsafe(Mode, const double* x, const double*) const { return navigation_outside_box(unsafe_, x); }
   const InputSet& inputs(Mode q) const { return inputs_[static_cast<int>(maze_->vehicle(q))]; }
   // The driver (seed 002 Sect. 4.1.2): u is drawn from a state-dependent interval. RandomDriver's
   // interval is U itself.

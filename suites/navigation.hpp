@@ -7,7 +7,9 @@
 // instance export, and tests. The constants and every modelling choice are documented in one
 // place, at the top of suites/navigation.cpp.
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -144,6 +146,21 @@ struct DriverInterval {
 };
 DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, std::span<const double> state,
                                           NavWheelUnit unit = NavWheelUnit::radians);
+
+// The navigation spec (seed 002 Sect. 4.1.4): the signed Euclidean distance from (x[0], x[1]) to
+// the closed square box = {x_lo, y_lo, x_hi, y_hi} (<= 0 inside). navigation_outside_box is
+// exactly navigation_box_spec > 0, without the hypot: outside the closed square the distance
+// of a positive offset is > 0, inside it -min(...) <= 0 (the integrator tests every step with
+// it, core/model.hpp).
+inline double navigation_box_spec(const std::array<double, 4>& box, const double* x) {
+  const double dx = std::max({box[0] - x[0], 0.0, x[0] - box[2]});
+  const double dy = std::max({box[1] - x[1], 0.0, x[1] - box[3]});
+  if (dx > 0.0 || dy > 0.0) return std::hypot(dx, dy);
+  return -std::min({x[0] - box[0], box[2] - x[0], x[1] - box[1], box[3] - x[1]});
+}
+inline bool navigation_outside_box(const std::array<double, 4>& box, const double* x) {
+  return box[0] - x[0] > 0.0 || x[0] - box[2] > 0.0 || box[1] - x[1] > 0.0 || x[1] - box[3] > 0.0;
+}
 
 // The instance of a navigation System (nullptr for any other System): for planners and tools
 // that need the terrain graph.

@@ -10,6 +10,9 @@
 #include <map>
 #include <limits>
 #include <set>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "core/inputs.hpp"
 #include "core/options.hpp"
@@ -291,30 +294,74 @@ TEST(HydiceNavigation, HydiceFalsifiesUnderEveryDriverAndALongerRoute) {
   falsify("hydice", 32, 1, "random", 0);  // property 0: the route crosses tens of terrains
 }
 
-TEST(HydiceNavigation, HopsToUnsafeIsTheMazeDistance) {
-  auto sys = make({{"n", "16"}});
-  const Decomposition* d = sys->decomposition();
-  const auto maze = navigation_instance(*sys);
-  const auto pr = maze->properties()[0];
-  std::vector<int> dist(maze->terrains(), -1);
-  std::deque<Mode> queue{pr.unsafe};
-  dist[pr.unsafe] = 0;
-  while (!queue.empty()) {
-    const Mode q = queue.front();
-    queue.pop_front();
-    for (NavSide side : {NavSide::east, NavSide::north, NavSide::west, NavSide::south})
-      if (maze->open(q, side) && dist[maze->neighbour(q, side)] < 0) {
-        dist[maze->neighbour(q, side)] = dist[q] + 1;
-        queue.push_back(maze->neighbour(q, side));
+// hops_to_unsafe is the region distance in G_D (a breadth-first search over d.neighbors here,
+// independent of the decomposition's packed level-by-level one), at least the terrain distance
+// in the maze and at most twice it plus one (a terrain is crossed in one or two region edges).
+TEST(HydiceNavigation, HopsToUnsafeIsTheRegionDistance) {
+  for (int n : {1, 16, 37}) {
+    for (int property : {0, 3}) {
+      auto sys = make({{"n", std::to_string(n)}, {"property", std::to_string(property)}});
+      const Decomposition* d = sys->decomposition();
+      const auto maze = navigation_instance(*sys);
+      const auto pr = maze->properties()[property];
+      std::vector<int> dist(maze->terrains(), -1);
+      std::deque<Mode> queue{pr.unsafe};
+      dist[pr.unsafe] = 0;
+      while (!queue.empty()) {
+        const Mode q = queue.front();
+        queue.pop_front();
+        for (NavSide side : {NavSide::east, NavSide::north, NavSide::west, NavSide::south})
+          if (maze->open(q, side) && dist[maze->neighbour(q, side)] < 0) {
+            dist[maze->neighbour(q, side)] = dist[q] + 1;
+            queue.push_back(maze->neighbour(q, side));
+          }
       }
-  }
-  for (Mode q = 0; q < maze->terrains(); ++q) {
-    const int manhattan = std::abs(maze->row(q) - maze->row(pr.unsafe)) + std::abs(maze->col(q) - maze->col(pr.unsafe));
-    for (RegionId r = q * 4; r < q * 4 + 4; ++r) {
-      EXPECT_EQ(d->hops_to_unsafe(r), dist[q]);
-      EXPECT_GE(d->hops_to_unsafe(r), manhattan);
+      std::vector<int> rdist(maze->terrains() * 4, -1);
+      std::deque<RegionId> rq;
+      for (RegionId r = 0; r < rdist.size(); ++r)
+        if (d->is_unsafe(r)) {
+          rdist[r] = 0;
+          rq.push_back(r);
+        }
+      ASSERT_FALSE(rq.empty());
+      std::vector<RegionId> nb;
+      while (!rq.empty()) {
+        const RegionId r = rq.front();
+        rq.pop_front();
+        d->neighbors(r, nb);
+        for (RegionId s : nb)
+          if (rdist[s] < 0) {
+            rdist[s] = rdist[r] + 1;
+            rq.push_back(s);
+          }
+      }
+      int longer = 0;
+      for (Mode q = 0; q < maze->terrains(); ++q) {
+        const int manhattan = std::abs(maze->row(q) - maze->row(pr.unsafe)) + std::abs(maze->col(q) - maze->col(pr.unsafe));
+        for (RegionId r = q * 4; r < q * 4 + 4; ++r) {
+          const std::string what = fmt::format("n={} property {} region {}", n, property, r);
+          ASSERT_GE(rdist[r], 0) << what;  // every terrain is connected (spanning-tree maze)
+          EXPECT_EQ(d->hops_to_unsafe(r), rdist[r]) << what;
+          if (n == 1) continue;  // one terrain: the quarters, all one edge from the unsafe one
+          EXPECT_GE(rdist[r], dist[q]) << what;
+          EXPECT_GE(rdist[r], manhattan) << what;
+          EXPECT_LE(rdist[r], 2 * dist[q] + 1) << what;
+          longer += rdist[r] > dist[q] + 1;
+        }
+      }
+      if (n > 1) {
+        EXPECT_GT(longer, 0) << "n=" << n;  // the terrain distance would not be as tight
+      }
     }
   }
+  // An unreachable region gets inf: no such region in a spanning-tree maze, so the unsafe
+  // regions themselves check the other end: 0.
+  auto sys = make({{"n", "4"}});
+  const Decomposition* d = sys->decomposition();
+  for (RegionId r = 0; r < 64; ++r)
+    if (d->is_unsafe(r)) {
+      EXPECT_EQ(d->hops_to_unsafe(r), 0.0);
+    }
 }
 
 TEST(NavigationDriverInputs, GridMapsOntoTheDriverIntervalAndValidatorChecksIt) {

@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <set>
 
 #include "core/options.hpp"
@@ -279,6 +280,30 @@ TEST(NavigationDynamics, SpecIsSignedDistanceToTheUnsafeTerrain) {
   EXPECT_NEAR(s(lo[0] - 3.0, lo[1] + 1.0), 3.0, 1e-12);
   EXPECT_NEAR(s(lo[0] - 3.0, lo[1] - 4.0), 5.0, 1e-12);    // off a corner
   EXPECT_NEAR(s(lo[0] + 2.5, lo[1] + 2.0), 0.5, 1e-12);
+}
+
+// The integrator tests each step with navigation_outside_box instead of the spec's sign: the two
+// must agree everywhere, on the boundary and one ulp either side of it included.
+TEST(NavigationDynamics, OutsideBoxIsExactlySpecPositive) {
+  const std::array<double, 4> box{3.0, 5.0, 4.0, 6.0};
+  std::mt19937_64 g(7);
+  std::uniform_real_distribution<double> coord(1.0, 8.0);
+  std::vector<double> xs{1.0, 3.0, 3.5, 4.0, 5.0, 6.0, 8.0};
+  for (double v : std::vector<double>(xs)) {
+    xs.push_back(std::nextafter(v, -1e9));
+    xs.push_back(std::nextafter(v, 1e9));
+  }
+  for (int i = 0; i < 600; ++i) xs.push_back(coord(g));
+  int inside = 0, outside = 0;
+  for (double a : xs)
+    for (double b : xs) {
+      const double x[5] = {a, b, 0.0, 0.0, 0.0};
+      const bool out = navigation_outside_box(box, x);
+      ASSERT_EQ(out, navigation_box_spec(box, x) > 0.0) << a << ", " << b;
+      (out ? outside : inside) += 1;
+    }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
 }
 
 // Propagates a vehicle heading east at speed `speed` from `gap` before the east side of q.
