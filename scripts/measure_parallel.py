@@ -11,7 +11,10 @@ fixed batch gives the same statuses, nodes and propagations at every thread coun
   one       one trial at batch 8, --threads 1 vs 2: rrt on hovercraft, hydice on navigation
             1024^2 (property 0, Random driver), rrft on the blimp
   makespan  12 hovercraft rrt trials, --threads 1 vs 2, at batch 1 and batch 8 (whole command)
-  hydice    HyDICE on navigation 1024^2, property 0, each driver, batch 1, one thread
+  hydice    HyDICE on navigation 1024^2, property 0, each driver, batch 1, one thread: trial 0 of
+            master seeds 1..--seeds (independent trials), medians, and each driver's ratio to Random
+  hydice2   the same trials (Random driver) at batch 4 and 8, one trial at a time on --threads 2
+            (and batch 8 on one thread, for the ratio)
   big       HyDICE on navigation 4096^2 (16.8 M modes), property 0, batch 8, --threads 2
 """
 import argparse
@@ -24,13 +27,13 @@ import tempfile
 import time
 
 
-def run(hyfal, workdir, name, suite, method, sets, trials, threads, timeout=600, max_nodes=50_000_000):
+def run(hyfal, workdir, name, suite, method, sets, trials, threads, timeout=600, max_nodes=50_000_000, seed=1):
     db = os.path.join(workdir, f"{name}.sqlite")
     if os.path.exists(db):
         os.remove(db)
     cmd = [hyfal, "run", "--suite", suite, "--method", method, "--trials", str(trials), "--threads", str(threads),
            "--db", db, "--witness-dir", os.path.join(workdir, "w-" + name), "--experiment", name,
-           "--timeout", str(timeout), "--max-nodes", str(max_nodes), "--quiet"]
+           "--timeout", str(timeout), "--max-nodes", str(max_nodes), "--seed", str(seed), "--quiet"]
     for s in sets:
         cmd += ["--set", s]
     t0 = time.monotonic()
@@ -77,6 +80,7 @@ def main():
     ap.add_argument("--hyfal", default="build/app/hyfal")
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--only", default="one,makespan,hydice")
+    ap.add_argument("--seeds", type=int, default=5, help="hydice, hydice2: master seeds 1..N, one trial each")
     args = ap.parse_args()
     only = set(args.only.split(","))
     with tempfile.TemporaryDirectory(prefix="hyfal-measure-") as workdir:
@@ -94,17 +98,37 @@ def main():
             for b in (1, 8):
                 print(side_by_side(args, f"12 hovercraft rrt trials, batch {b} (makespan)", "hovercraft", "rrt",
                                    [f"batch={b}"], 12, whole=True), flush=True)
+        def seeded(label, sets, threads):
+            """Trial 0 of master seeds 1..N, one at a time: per-trial walls and CPU, statuses, nodes."""
+            walls, cpus, rows_all = [], [], []
+            for seed in range(1, args.seeds + 1):
+                _, rows = run(args.hyfal, workdir, "h", "navigation", "hydice", ["n=1024"] + sets, 1, threads,
+                              seed=seed)
+                walls.append(rows[0][4])
+                cpus.append(rows[0][5])
+                rows_all.append(rows[0])
+            falsified = sum(r[1] == "falsified" for r in rows_all)
+            nodes = statistics.median(r[2] for r in rows_all)
+            each = ", ".join(f"{w:.1f}" for w in walls)
+            return statistics.median(walls), (f"| {label} | {statistics.median(walls):.2f} s ({each}) | "
+                                              f"{statistics.median(cpus):.2f} s | {falsified}/{len(rows_all)} | "
+                                              f"{nodes:,.0f} |")
         if "hydice" in only:
-            print("\n| HyDICE navigation 1024², property 0, batch 1, 1 thread | wall (median) | cpu | nodes |")
-            print("|---|---|---|---|")
+            print(f"\n| HyDICE navigation 1024², property 0, batch 1, 1 thread, seeds 1..{args.seeds} | wall median "
+                  "(each) | cpu median | falsified | nodes median | vs random |")
+            print("|---|---|---|---|---|---|")
+            base = None
             for driver in ("random", "student", "highway"):
-                walls, cpus = [], []
-                for rep in range(args.reps):
-                    _, rows = run(args.hyfal, workdir, "h", "navigation", "hydice", ["n=1024", f"driver={driver}"], 1, 1)
-                    walls.append(rows[0][4])
-                    cpus.append(rows[0][5])
-                print(f"| {driver} | {statistics.median(walls):.2f} s | {statistics.median(cpus):.2f} s | "
-                      f"{rows[0][2]:,} ({rows[0][1]}) |", flush=True)
+                med, row = seeded(driver, [f"driver={driver}"], 1)
+                base = base or med
+                print(f"{row} {med / base:.2f}x |", flush=True)
+        if "hydice2" in only:
+            print(f"\n| HyDICE navigation 1024², property 0, Random, seeds 1..{args.seeds} | wall median (each) | "
+                  "cpu median | falsified | nodes median |")
+            print("|---|---|---|---|---|")
+            for batch, threads in ((8, 1), (8, 2), (4, 2)):
+                _, row = seeded(f"batch {batch}, {threads} thread(s)", [f"batch={batch}"], threads)
+                print(row, flush=True)
         if "big" in only:
             _, rows = run(args.hyfal, workdir, "big", "navigation", "hydice", ["n=4096", "batch=8"], 1, 2, timeout=600)
             print(f"\nHyDICE navigation 4096², property 0, batch 8, 2 threads: {rows[0][1]}, wall {rows[0][4]:.1f} s, "
