@@ -110,7 +110,8 @@
 //    a terrain.
 //  - goal_point: the centre of the unsafe terrain, θ = 0, at rest.
 //  - HyDICE decomposition (seed 002 Sect. 3.2): 2 x 2 regions per terrain, neighbours across open
-//    passages only, coverage cells of s / 16 (NavigationDecomposition below).
+//    passages only, coverage cells of s / 16; hops_to_unsafe = the exact region distance in G_D
+//    (a BFS once per instance), the lead search's A* heuristic (NavigationDecomposition below).
 //  - Coverage grid over (x, y), spacing n s / min(4n, 1024): a quarter terrain up to n = 256,
 //    then at most 1025 x 1025 points (spacing s at n = 1024, 4 MB of grid).
 #include "suites/navigation.hpp"
