@@ -150,6 +150,11 @@ class MpiLink {
     std::unique_ptr<std::string> bytes;  // stays put until the send completes
     int peer;
   };
+  struct Incoming {
+    MPI_Request request;
+    std::unique_ptr<std::string> bytes;  // stays put until the receive completes
+    int tag;
+  };
 
   void loop(int* argc, char*** argv) {
     int provided = 0;
@@ -181,13 +186,20 @@ class MpiLink {
     cv_.notify_all();
 
     std::vector<InFlight> sending;
+    std::map<int, std::deque<Incoming>> receiving;  // by source, in matching order
+    std::vector<Incoming> abandoned;                // of lost peers; never freed
     auto next_beat = start;
     std::optional<Clock::time_point> stop_deadline;
+    // A test makes one rank die right after it starts sending its first result, the moment at
+    // which its peer has the message's header but not yet its bytes.
+    const char* die = std::getenv("HYFAL_TEST_DIE_SENDING_RESULT");
+    const bool die_sending_result = die && *die && std::atoi(die) == rank_;
     const auto isend = [&](int peer, int tag, std::string bytes) {
       InFlight f{MPI_REQUEST_NULL, std::make_unique<std::string>(std::move(bytes)), peer};
       if (MPI_Isend(f.bytes->data(), static_cast<int>(f.bytes->size()), MPI_BYTE, peer, tag, MPI_COMM_WORLD,
                     &f.request) == MPI_SUCCESS)
         sending.push_back(std::move(f));
+      if (die_sending_result && tag == kResult) std::_Exit(9);
     };
     for (;;) {
       bool busy = false;
@@ -211,19 +223,37 @@ class MpiLink {
           ++i;
         }
       }
+      // Receives never block this thread: a message matched here is received with MPI_Imrecv and
+      // tested on each pass. A blocking MPI_Recv of a message whose sender was killed after its
+      // header arrived (shared memory moves larger messages by a single-copy get from the
+      // sender's memory) could wait for ever, and this thread would stop sending heartbeats, so
+      // the other ranks would take this one for lost too.
       for (;;) {
         int flag = 0;
+        MPI_Message message = MPI_MESSAGE_NULL;
         MPI_Status status;
-        if (MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status) != MPI_SUCCESS || !flag) break;
+        if (MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &message, &status) != MPI_SUCCESS || !flag) break;
+        busy = true;
         int count = 0;
         MPI_Get_count(&status, MPI_BYTE, &count);
-        std::string bytes(static_cast<std::size_t>(std::max(count, 0)), '\0');
-        MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        busy = true;
-        const int source = status.MPI_SOURCE;
-        if (dead.count(source) || !last_seen.count(source)) continue;  // a lost peer stays lost
-        last_seen[source] = Clock::now();
-        if (status.MPI_TAG != kHeartbeat) events_.push(Event{source, status.MPI_TAG, std::move(bytes), 0, std::nullopt});
+        Incoming in{MPI_REQUEST_NULL, std::make_unique<std::string>(static_cast<std::size_t>(std::max(count, 0)), '\0'),
+                    status.MPI_TAG};
+        if (MPI_Imrecv(in.bytes->data(), count, MPI_BYTE, &message, &in.request) == MPI_SUCCESS)
+          receiving[status.MPI_SOURCE].push_back(std::move(in));
+      }
+      // Delivered per peer in the order they were sent (a JOB after its WELCOME, a STOP last).
+      for (auto& [source, queue] : receiving) {
+        while (!queue.empty()) {
+          int done = 0;
+          const bool failed = MPI_Test(&queue.front().request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS;
+          if (!failed && !done) break;
+          busy = true;
+          Incoming in = std::move(queue.front());
+          queue.pop_front();
+          if (failed || dead.count(source) || !last_seen.count(source)) continue;  // a lost peer stays lost
+          last_seen[source] = Clock::now();
+          if (in.tag != kHeartbeat) events_.push(Event{source, in.tag, std::move(*in.bytes), 0, std::nullopt});
+        }
       }
       const auto now = Clock::now();
       if (now >= next_beat) {
@@ -235,6 +265,11 @@ class MpiLink {
         if (!dead.count(p) && now - last_seen[p] > timeout) {
           dead.insert(p);
           events_.push(Event{p, kLost, {}, 0, std::nullopt});
+          // Its receives in progress may never complete: their buffers stay allocated (MPI may
+          // still write into them), and the process leaves without MPI_Finalize.
+          auto& pending = receiving[p];
+          for (auto& in : pending) abandoned.push_back(std::move(in));
+          pending.clear();
         }
       if (stopping) {
         // Flush what is queued (a STOP, a last result), but never wait long for a peer that is
@@ -258,6 +293,11 @@ class MpiLink {
         MPI_Request_free(&f.request);
       }
     }
+    // Receives still pending (of lost peers, or unfinished at the stop) keep their buffers: the
+    // process is leaving and MPI could still write into them.
+    for (auto& in : abandoned) static_cast<void>(in.bytes.release());
+    for (auto& [source, queue] : receiving)
+      for (auto& in : queue) static_cast<void>(in.bytes.release());
     if (!skip_finalize_) MPI_Finalize();
   }
 

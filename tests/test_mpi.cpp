@@ -261,6 +261,18 @@ TEST_F(MpiTest, TrialsOfAKilledWorkerAreRunByTheOtherRanks) {
   expect_same_as_reference(dir_ / "db.sqlite", 120);
 }
 
+// A worker that dies while its result is on the way (rank 0 has matched the message, its bytes
+// are still in the dead rank's memory) neither hangs rank 0 nor silences it for the other worker:
+// the run completes on ranks 0 and 1. Before receives were non-blocking this hung for ever.
+TEST_F(MpiTest, AWorkerThatDiesSendingAResultLeavesNoHole) {
+  const pid_t job = start("env HYFAL_PEER_TIMEOUT_S=2 " + mpirun("--enable-recovery -x HYFAL_TEST_DIE_SENDING_RESULT=2 -n 3") +
+                          " " + quote(HYFAL_BIN) + " " + run_args(60, "db.sqlite", "w"));
+  EXPECT_EQ(finish(job, 120), 0) << read_text(dir_ / "bg.err");
+  EXPECT_NE(read_text(dir_ / "bg.err").find("[hyfal] rank 2 (host"), std::string::npos) << read_text(dir_ / "bg.err");
+  EXPECT_EQ(read_text(dir_ / "bg.err").find("lost rank 0"), std::string::npos) << read_text(dir_ / "bg.err");
+  expect_same_as_reference(dir_ / "db.sqlite", 60);
+}
+
 // kill -9 of the whole job (launcher and every rank): what was committed stays, and the run
 // finishes in one process; then the other way round, a one-process run finished on 2 ranks.
 TEST_F(MpiTest, AKilledJobResumesAtAnotherRankCount) {
