@@ -24,7 +24,8 @@ namespace hyfal {
 
 // u uniform on the box [lo, hi] (one unit draw per dimension, in order), clamped at hi where
 // lo + t (hi - lo) rounds past it.
-inline void draw_uniform_input(Rng& rng, std::span<const double> lo, std::span<const double> hi, std::span<double> u) {
+template <class Urbg>
+inline void draw_uniform_input(Urbg& rng, std::span<const double> lo, std::span<const double> hi, std::span<double> u) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (std::size_t i = 0; i < u.size(); ++i) u[i] = std::min(hi[i], lo[i] + unit(rng) * (hi[i] - lo[i]));
 }

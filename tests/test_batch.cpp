@@ -13,7 +13,15 @@
 #include <map>
 #include <sstream>
 
+#include <oneapi/tbb/task_arena.h>
+
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+
 #include "core/options.hpp"
+#include "core/parallel_slots.hpp"
 #include "core/rng.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
@@ -142,6 +150,73 @@ TEST(Batch, BatchOneIsTheDefault) {
   for (const MethodEntry& m : all_methods()) {
     const Json defaults = resolve_options(m.options, {});
     if (defaults.contains("batch")) EXPECT_EQ(defaults.at("batch").get<int>(), 1) << m.name;
+  }
+}
+
+// SlotRounds (a helper standing by between rounds): every slot of every round runs exactly once,
+// its writes are seen by the coordinator after run() (ThreadSanitizer checks the ordering), and
+// the helper does take slots. Rounds continue until it has (at most 20 s), so a busy machine
+// slows the test rather than failing it.
+TEST(SlotRounds, EverySlotOfEveryRoundRunsOnceOnEitherThread) {
+  tbb::task_arena arena(2);
+  constexpr std::size_t kSlots = 8;
+  std::vector<int> runs(kSlots), seen;
+  std::atomic<std::size_t> by_helper{0};
+  std::size_t rounds_run = 0;
+  const auto caller = std::this_thread::get_id();
+  TrialCpuClock cpu;
+  arena.execute([&] {
+    with_slot_rounds(&cpu, [&](SlotRounds& rounds) {
+      const auto t0 = std::chrono::steady_clock::now();
+      auto body = [&](std::size_t s) {
+        volatile double x = 1.0;
+        for (int i = 0; i < 2000; ++i) x = x * 1.0000001 + 1e-9;  // a few µs of work
+        ++runs[s];
+        if (std::this_thread::get_id() != caller) by_helper.fetch_add(1, std::memory_order_relaxed);
+      };
+      while (rounds_run < 200 || (by_helper.load() == 0 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20))) {
+        rounds.run(kSlots, body);
+        ++rounds_run;
+        for (std::size_t s = 0; s < kSlots; ++s) {
+          EXPECT_EQ(runs[s], 1) << "round " << rounds_run << " slot " << s;
+          runs[s] = 0;
+        }
+      }
+    });
+  });
+  EXPECT_GT(by_helper.load(), 0u) << "the helper never took a slot in " << rounds_run << " rounds";
+  EXPECT_GT(cpu.helper_seconds(), 0.0) << "the helper's slots count toward cpu_s";
+}
+
+// With one thread the coordinator runs every slot itself; a body's exception is rethrown by
+// run() after the round, and leaves no helper waiting (the call returns).
+TEST(SlotRounds, OneThreadAndExceptions) {
+  for (int threads : {1, 2}) {
+    tbb::task_arena arena(threads);
+    const auto caller = std::this_thread::get_id();
+    std::atomic<int> elsewhere{0}, ran{0};
+    bool thrown = false;
+    arena.execute([&] {
+      try {
+        with_slot_rounds(nullptr, [&](SlotRounds& rounds) {
+          for (int round = 0; round < 50; ++round) {
+            auto body = [&](std::size_t s) {
+              ran.fetch_add(1);
+              if (std::this_thread::get_id() != caller) elsewhere.fetch_add(1);
+              if (round == 40 && s == 5) throw std::runtime_error("slot 5");
+            };
+            rounds.run(8, body);
+          }
+        });
+      } catch (const std::runtime_error& e) {
+        thrown = std::string(e.what()) == "slot 5";
+      }
+    });
+    EXPECT_TRUE(thrown) << threads << " threads";
+    EXPECT_EQ(ran.load(), 41 * 8) << threads << " threads: every slot of the failing round still ran";
+    if (threads == 1) {
+      EXPECT_EQ(elsewhere.load(), 0);
+    }
   }
 }
 

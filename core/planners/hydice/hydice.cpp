@@ -347,8 +347,8 @@ namespace {
 // on [0, Σ w), then the first i whose cumulative weight passes it. The weights are evaluated
 // twice (sum, walk) instead of stored, so that no buffer is allocated per draw; both passes
 // compute the same doubles in the same order, so the pick is the stored-vector pick exactly.
-template <class Weight>
-std::size_t pick_weighted_by(std::size_t count, Weight&& weight, Rng& rng) {
+template <class Weight, class Urbg>
+std::size_t pick_weighted_by(std::size_t count, Weight&& weight, Urbg& rng) {
   double total = 0.0;
   for (std::size_t i = 0; i < count; ++i) total += weight(i);
   double r = std::uniform_real_distribution<double>(0.0, total)(rng);
@@ -363,8 +363,8 @@ std::size_t pick_weighted_by(std::size_t count, Weight&& weight, Rng& rng) {
 }
 
 // A coverage cell ∝ 1/nsel² (Sect. 3.3.2), nsel = selections(i) + 1.
-template <class Selections>
-std::size_t pick_by_inverse_square(std::size_t count, Selections&& selections, Rng& rng) {
+template <class Selections, class Urbg>
+std::size_t pick_by_inverse_square(std::size_t count, Selections&& selections, Urbg& rng) {
   return pick_weighted_by(
       count,
       [&](std::size_t i) {
@@ -375,9 +375,14 @@ std::size_t pick_by_inverse_square(std::size_t count, Selections&& selections, R
 }
 }  // namespace
 
-std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng) {
+namespace {
+template <class Urbg>
+std::size_t hydice_pick_weighted_by(std::span<const double> w, Urbg& rng) {
   return pick_weighted_by(w.size(), [&](std::size_t i) { return w[i]; }, rng);
 }
+}  // namespace
+
+std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng) { return hydice_pick_weighted_by(w, rng); }
 
 std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng) {
   return pick_by_inverse_square(selections.size(), [&](std::size_t i) { return selections[i]; }, rng);
@@ -458,6 +463,7 @@ struct RegionData {
   std::int64_t propagations = 0;  // t(D) - 1
   std::vector<std::uint32_t> cells;  // indices into the cell table
   bool available = false;
+  bool changed = false;  // t(D) or cov(D) changed since the last snapshot_lead_weights
 };
 
 // The lead / availability layer of Alg. 2 (OMPL's Syclop::solve): the tree, the reached regions
@@ -475,8 +481,13 @@ class HydiceSearch {
     std::uint32_t region = 0;
     NodeId s = 0;
     Mode q = 0;
+    RegionId selected = 0;  // the region of D_avail drawn
     std::array<double, 2> target{std::numeric_limits<double>::quiet_NaN(), 0.0};  // steering (NaN: none)
     std::vector<double> inputs;  // `controls` inputs, m each
+    // choose()'s scratch, one per draw so that the slots of a batch choose concurrently.
+    std::optional<InputGrid> grid;
+    std::vector<double> ulo, uhi;
+    std::vector<RegionId> nb;
   };
   // What its propagations produced: the kept end state (the nearest to the steering target; a
   // witness wins) and the counts.
@@ -502,10 +513,7 @@ class HydiceSearch {
         cell_(dec_->cell_size()),
         tree_(info_.dim(), m_),
         draw_box_(o.inputs == HydiceOptions::Inputs::box ||
-                  (o.inputs == HydiceOptions::Inputs::automatic && info_.continuous_random_inputs)),
-        grid_(sys_),
-        ulo_(m_),
-        uhi_(m_) {
+                  (o.inputs == HydiceOptions::Inputs::automatic && info_.continuous_random_inputs)) {
     prop_->set_interrupt(budget_.interrupt());  // a propagation past the deadline ends as rejected
     region_slot_.attach(*dec_);
     std::vector<std::vector<double>> starts{info_.initial_state};
@@ -638,14 +646,24 @@ class HydiceSearch {
   }
 
   // Freezes the lead weight of every reached region for search_lead(true).
+  // Incremental: a region's index never changes (regions are only appended), and its weight
+  // changes only with its t(D) or cov(D), so only the regions reached since the last snapshot
+  // and those whose estimates changed are (re)computed: the same weights as recomputing all of
+  // them (this was 1.8 % of a batch-8 trial, serial between two growths).
   void snapshot_lead_weights() {
-    snap_slots_.attach(*dec_);
+    if (snap_w_.empty()) snap_slots_.attach(*dec_);
+    const std::size_t before = snap_w_.size();
     snap_w_.resize(regions_.size());
-    for (std::size_t i = 0; i < regions_.size(); ++i) {
+    for (std::size_t i = before; i < regions_.size(); ++i) {
       bool fresh;
       snap_slots_.find_or_insert(regions_[i].id, static_cast<std::uint32_t>(i), fresh);
       snap_w_[i] = lead_weight(regions_[i].id);
     }
+    for (std::uint32_t i : changed_) {
+      regions_[i].changed = false;
+      if (i < before) snap_w_[i] = lead_weight(regions_[i].id);
+    }
+    changed_.clear();
   }
   double snapshot_weight(RegionId r) const {
     const std::uint32_t i = snap_slots_.find(r);
@@ -666,8 +684,9 @@ class HydiceSearch {
   // (its selection counted now), a state of the cell uniformly, then the inputs: `controls`
   // draws uniformly from the admissible box at x_s (the driver) or from Ū, and, with
   // controls > 1, the steering target. The order of the draws is the sequential algorithm's.
-  void draw(Rng& g, std::span<const double> wsel, Draw& d) {
-    const RegionId selected = avail_[hydice_pick_weighted(wsel, g)];
+  template <class Urbg>
+  void select(Urbg& g, std::span<const double> wsel, Draw& d) {
+    const RegionId selected = avail_[hydice_pick_weighted_by(wsel, g)];
     d.region = region_slot_.find(selected);
     const RegionData& rd = regions_[d.region];
     const std::size_t ci = pick_by_inverse_square(
@@ -676,22 +695,37 @@ class HydiceSearch {
     ++cl.selections;
     d.s = cl.nodes[std::uniform_int_distribution<std::size_t>(0, cl.nodes.size() - 1)(g)];
     d.q = tree_.info(d.s).mode;
+    d.selected = selected;
+  }
+  // The rest of the draw, from x_s: reads the tree and the estimates only, and writes only d.
+  template <class Urbg>
+  void choose(Urbg& g, Draw& d) const {
     const auto x_s = tree_.state(d.s);
-    if (draw_box_) sys_.input_bounds(d.q, x_s, ulo_, uhi_);
-    else grid_.at(d.q, x_s);
+    if (draw_box_) {
+      d.ulo.resize(m_);
+      d.uhi.resize(m_);
+      sys_.input_bounds(d.q, x_s, d.ulo, d.uhi);
+    } else {
+      if (!d.grid) d.grid.emplace(sys_);
+      d.grid->at(d.q, x_s);
+    }
     d.target = {std::numeric_limits<double>::quiet_NaN(), 0.0};
-    if (o_.controls > 1) d.target = steering_target(selected, g);
+    if (o_.controls > 1) d.target = steering_target(d.selected, g, d.nb);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     d.inputs.resize(static_cast<std::size_t>(o_.controls) * m_);
     for (std::int64_t j = 0; j < o_.controls; ++j) {
       double* u = d.inputs.data() + static_cast<std::size_t>(j) * m_;
       if (draw_box_) {
-        draw_uniform_input(g, ulo_, uhi_, std::span<double>(u, m_));
+        draw_uniform_input(g, d.ulo, d.uhi, std::span<double>(u, m_));
       } else {
-        const auto gi = grid_.input(std::uniform_int_distribution<std::size_t>(0, grid_.count() - 1)(g));
+        const auto gi = d.grid->input(std::uniform_int_distribution<std::size_t>(0, d.grid->count() - 1)(g));
         std::copy(gi.begin(), gi.end(), u);
       }
     }
+  }
+  void draw(Rng& g, std::span<const double> wsel, Draw& d) {
+    select(g, wsel, d);
+    choose(g, d);
   }
 
   // Alg. 3 (PropagateForward) for each drawn input, from x_s for the suite's δt; keeps the end
@@ -734,6 +768,7 @@ class HydiceSearch {
   // ended (a witness, or the node cap reached).
   bool commit(const Draw& d, const Outcome& o) {
     regions_[d.region].propagations += o.propagations;
+    mark_changed(d.region);
     c_.propagations += o.propagations;
     c_.integration_steps += o.integration_steps;
     if (!o.any) return false;
@@ -773,6 +808,7 @@ class HydiceSearch {
     if (new_cell) {
       cells_.emplace_back();
       rd.cells.push_back(cit->second);
+      mark_changed(ri);
     }
     cells_[cit->second].nodes.push_back(id);
     if (!rd.available) {  // a newly reached region joins D_avail (Sect. 3.3.1)
@@ -784,6 +820,11 @@ class HydiceSearch {
   void finish(NodeId leaf) {
     out_.status = TrialStatus::falsified;
     out_.trajectory = trajectory_from_tree(sys_, *prop_, tree_, leaf, ctx_.parameters);
+  }
+  void mark_changed(std::uint32_t ri) {
+    if (regions_[ri].changed) return;
+    regions_[ri].changed = true;
+    changed_.push_back(ri);
   }
   RegionData& region(RegionId r) { return regions_[region_slot_.find(r)]; }
   bool reached(RegionId r) const { return region_slot_.find(r) != RegionSlots::kNone; }
@@ -797,13 +838,14 @@ class HydiceSearch {
   }
   // Where to steer from region r: the region after r on the current lead; off the lead (or
   // without leads) the centre of a random neighbour of r in G_D.
-  std::array<double, 2> steering_target(RegionId r, Rng& g) {
+  template <class Urbg>
+  std::array<double, 2> steering_target(RegionId r, Urbg& g, std::vector<RegionId>& nb) const {
     auto it = lead_position_.find(r);
     if (it != lead_position_.end() && it->second + 1 < current_lead_.size())
       return dec_->centre(current_lead_[it->second + 1]);
-    dec_->neighbors(r, nb_);
-    if (nb_.empty()) return dec_->centre(r);
-    return dec_->centre(nb_[std::uniform_int_distribution<std::size_t>(0, nb_.size() - 1)(g)]);
+    dec_->neighbors(r, nb);
+    if (nb.empty()) return dec_->centre(r);
+    return dec_->centre(nb[std::uniform_int_distribution<std::size_t>(0, nb.size() - 1)(g)]);
   }
 
   const HydiceOptions& o_;
@@ -826,15 +868,14 @@ class HydiceSearch {
   std::unordered_map<CellKey, std::uint32_t, CellKeyHash> cell_index_;
   std::vector<Cell> cells_;
   std::vector<RegionId> avail_;  // D_avail
-  std::vector<RegionId> start_regions_, current_lead_, nb_;
+  std::vector<RegionId> start_regions_, current_lead_;
   std::unordered_map<RegionId, std::size_t> lead_position_;
   double unreached_edge_cost_ = 0.0;
   LeadSearch lead_search_;
   RegionSlots snap_slots_;  // the reached regions when the lead weights were frozen
   std::vector<double> snap_w_;
+  std::vector<std::uint32_t> changed_;  // regions with `changed` set
   const bool draw_box_;
-  InputGrid grid_;
-  std::vector<double> ulo_, uhi_;
   std::int64_t leads_ = 0, random_leads_ = 0, failed_leads_ = 0, expansions_ = 0, random_expansions_ = 0;
 };
 
@@ -875,35 +916,72 @@ class BatchStep {
   }
   void grow(HydiceSearch& search, std::int64_t steps) {
     const std::size_t batch = slots_.size();
-    for (std::int64_t k = 0; k < steps && !search.done(); k += static_cast<std::int64_t>(batch)) {
-      if (k > 0 && search.out_of_budget()) break;
-      // Select, in slot order, each slot with its own stream, against the estimates of the
-      // round's start (t(D) and cov(D) change only in the commits below).
-      search.selection_weights(wsel_);
-      for (std::size_t s = 0; s < batch; ++s) {
-        Rng g(slot_seed(search.ctx().seed, round_, s));
-        search.draw(g, wsel_, slots_[s].draw);
+    const std::uint64_t seed = search.ctx().seed;
+    // A slot's choice of inputs and its propagation run in parallel; so does the seeding of its
+    // stream for the next round (seeding an mt19937_64 and its first twist take ~2 µs, which
+    // were 10 % of the serial part of a round), whose first value is drawn there too.
+    auto body = [&](std::size_t s) {
+      Slot& sl = slots_[s];
+      search.choose(sl.stream, sl.draw);
+      search.propagate(*sl.prop, sl.draw, sl.outcome);
+      sl.prepare(seed, round_, s);
+    };
+    // Rounds of ~100 µs: a helper stands by for the whole growth (SlotRounds) rather than a
+    // fork and join per round.
+    with_slot_rounds(search.ctx().cpu, [&](SlotRounds& rounds) {
+      for (std::int64_t k = 0; k < steps && !search.done(); k += static_cast<std::int64_t>(batch)) {
+        if (k > 0 && search.out_of_budget()) break;
+        // Select (region, cell, state), in slot order, each slot with its own stream, against
+        // the estimates of the round's start (t(D) and cov(D) change only in the commits below).
+        search.selection_weights(wsel_);
+        for (std::size_t s = 0; s < batch; ++s) {
+          if (slots_[s].prepared != round_) slots_[s].prepare(seed, round_, s);
+          search.select(slots_[s].stream, wsel_, slots_[s].draw);
+        }
+        ++round_;
+        // Choose the inputs and propagate in parallel, against the frozen tree.
+        rounds.run(batch, body);
+        // Commit in slot order; the first slot reaching the unsafe set ends the search, and the
+        // node cap is checked before each commit so that it is exact.
+        bool ended = false;
+        for (std::size_t s = 0; s < batch && !ended; ++s) {
+          if (search.at_node_cap()) break;
+          ended = search.commit(slots_[s].draw, slots_[s].outcome);
+        }
+        if (ended || search.at_node_cap()) break;
       }
-      ++round_;
-      // Propagate in parallel against the frozen tree.
-      parallel_slots(batch, search.ctx().cpu,
-                     [&](std::size_t s) { search.propagate(*slots_[s].prop, slots_[s].draw, slots_[s].outcome); });
-      // Commit in slot order; the first slot reaching the unsafe set ends the search, and the
-      // node cap is checked before each commit so that it is exact.
-      bool ended = false;
-      for (std::size_t s = 0; s < batch && !ended; ++s) {
-        if (search.at_node_cap()) break;
-        ended = search.commit(slots_[s].draw, slots_[s].outcome);
-      }
-      if (ended || search.at_node_cap()) break;
-    }
+    });
   }
 
  private:
+  // Rng(slot_seed(seed, round, slot)) with its first value drawn ahead: the same sequence.
+  struct PrimedStream {
+    using result_type = Rng::result_type;
+    static constexpr result_type min() { return Rng::min(); }
+    static constexpr result_type max() { return Rng::max(); }
+    result_type operator()() {
+      if (fresh) {
+        fresh = false;
+        return first;
+      }
+      return g();
+    }
+    Rng g;
+    result_type first = 0;
+    bool fresh = false;
+  };
   struct Slot {
     std::unique_ptr<Propagator> prop;
     HydiceSearch::Draw draw;
     HydiceSearch::Outcome outcome;
+    PrimedStream stream;
+    std::uint64_t prepared = std::numeric_limits<std::uint64_t>::max();  // the round `stream` is for
+    void prepare(std::uint64_t seed, std::uint64_t round, std::size_t s) {
+      stream.g.seed(slot_seed(seed, round, s));
+      stream.first = stream.g();
+      stream.fresh = true;
+      prepared = round;
+    }
   };
   std::vector<Slot> slots_;
   std::vector<double> wsel_;
