@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <utility>
 #include <thread>
 #if defined(__x86_64__) || defined(__i386__)
@@ -99,9 +100,10 @@ void parallel_slots(std::size_t count, TrialCpuClock* cpu, Body&& body, std::siz
 //
 // Protocol: one atomic ticket = round (32 bits) | count (16) | next slot (16). The coordinator
 // writes the round's body, resets `done_`, then publishes the ticket (release); a slot is
-// claimed by a compare-and-swap on the ticket (a stale round fails it) and counted in `done_`
-// (release) when it has run; the coordinator returns from run() when done_ = count (acquire),
-// so the next round's writes happen after every read of this one.
+// claimed by a compare-and-swap on the ticket (a stale round fails it), marked in `finished_`
+// and counted in `done_` (release) when it has run; the coordinator commits slot i once it
+// sees finished_[i] (acquire) and returns from run() when done_ = count (acquire), so the next
+// round's writes happen after every read of this one.
 class SlotRounds {
  public:
   static constexpr std::size_t kMaxSlots = 0xffff;
@@ -115,16 +117,53 @@ class SlotRounds {
   // exception of a body is rethrown here once every slot of the round has finished.
   template <class Body>
   void run(std::size_t count, Body& body) {
+    run(count, body, [](std::size_t) { return false; });
+  }
+  // The same, and commit(i) for i = 0, 1, ... in order, on the calling thread, as soon as slot i
+  // has run, while later slots may still be running (so the coordinator commits instead of
+  // waiting for the helper's last slot); once commit returns true (the search ended), no
+  // further slot is committed. Slots that threw are not committed, nor any after them.
+  // The bodies must not read what commit writes.
+  template <class Body, class Commit>
+  void run(std::size_t count, Body& body, Commit&& commit) {
     if (count == 0) return;
+    if (count > capacity_) {
+      finished_ = std::make_unique<std::atomic<std::uint64_t>[]>(count);
+      capacity_ = count;
+    }
     run_ = [](void* b, std::size_t i) { (*static_cast<Body*>(b))(i); };
     body_ = &body;
     done_.store(0, std::memory_order_relaxed);
     ++round_;
-    ticket_.store(pack(round_, static_cast<std::uint32_t>(count), 0), std::memory_order_release);
-    work(round_, 0);
-    for (unsigned spins = 0; done_.load(std::memory_order_acquire) < count; ++spins) pause(spins);
+    ticket_.store(pack(static_cast<std::uint32_t>(round_), static_cast<std::uint32_t>(count), 0),
+                  std::memory_order_release);
+    std::size_t next = 0;  // the next slot to commit
+    bool committing = true;
+    std::exception_ptr commit_error;
+    for (unsigned spins = 0; done_.load(std::memory_order_acquire) < count || (committing && next < count);) {
+      if (committing && next < count) {
+        const std::uint64_t f = finished_[next].load(std::memory_order_acquire);
+        if (f >> 1 == round_) {
+          if (f & 1) {
+            committing = false;  // slot `next` threw
+          } else {
+            try {
+              committing = !commit(next);
+            } catch (...) {
+              commit_error = std::current_exception();
+              committing = false;
+            }
+            ++next;
+          }
+          continue;
+        }
+      }
+      if (claim_and_run(static_cast<std::uint32_t>(round_), 0)) continue;
+      pause(spins++);
+    }
     for (std::exception_ptr& e : error_)
       if (e) std::rethrow_exception(std::exchange(e, nullptr));
+    if (commit_error) std::rethrow_exception(commit_error);
   }
 
   // The helper's loop: claims the slots of each round until close(). Returns at once on the
@@ -165,27 +204,39 @@ class SlotRounds {
     _mm_pause();
 #endif
   }
-  // Claims and runs slots of `round` until none is left; `who`: 0 coordinator, 1 helper.
-  void work(std::uint32_t round, int who) {
+  // Claims and runs one slot of `round`; false when none is left. `who`: 0 coordinator, 1 helper.
+  bool claim_and_run(std::uint32_t round, int who) {
     std::uint64_t t = ticket_.load(std::memory_order_acquire);
     while (round_of(t) == round && next_of(t) < count_of(t)) {
       if (!ticket_.compare_exchange_weak(t, t + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+      const std::uint32_t i = next_of(t);
+      bool failed = false;
       try {
-        run_(body_, next_of(t));
+        run_(body_, i);
       } catch (...) {
         if (!error_[who]) error_[who] = std::current_exception();
+        failed = true;
       }
+      // round_ (64 bits: it never wraps) is the claimed round's: the coordinator wrote it before
+      // the ticket and changes it only after done_ counts this slot.
+      finished_[i].store((round_ << 1) | (failed ? 1 : 0), std::memory_order_release);
       done_.fetch_add(1, std::memory_order_release);
-      t = ticket_.load(std::memory_order_acquire);
+      return true;
+    }
+    return false;
+  }
+  void work(std::uint32_t round, int who) {
+    while (claim_and_run(round, who)) {
     }
   }
-
   TrialCpuClock* cpu_;
   std::thread::id coordinator_;
   void (*run_)(void*, std::size_t) = nullptr;
   void* body_ = nullptr;
-  std::uint32_t round_ = 0;
+  std::uint64_t round_ = 0;  // written by the coordinator before each ticket, read by the helper after it
   std::atomic<std::uint64_t> ticket_{0};
+  std::unique_ptr<std::atomic<std::uint64_t>[]> finished_;  // per slot: (round << 1) | threw
+  std::size_t capacity_ = 0;
   std::atomic<std::size_t> done_{0};
   std::atomic<bool> closed_{false};
   std::exception_ptr error_[2];

@@ -188,6 +188,48 @@ TEST(SlotRounds, EverySlotOfEveryRoundRunsOnceOnEitherThread) {
   EXPECT_GT(cpu.helper_seconds(), 0.0) << "the helper's slots count toward cpu_s";
 }
 
+// Commits come in slot order, each after its slot's body has finished (its writes visible), and
+// stop for the round when one returns true (the later bodies still run); a body that throws
+// stops the commits at its slot and its exception comes out of run().
+TEST(SlotRounds, CommitsInSlotOrderAfterTheirBodies) {
+  tbb::task_arena arena(2);
+  arena.execute([&] {
+    with_slot_rounds(nullptr, [&](SlotRounds& rounds) {
+      constexpr std::size_t kSlots = 8;
+      std::vector<int> value(kSlots);
+      for (int round = 0; round < 500; ++round) {
+        std::vector<std::size_t> committed;
+        std::atomic<int> ran{0};
+        auto body = [&](std::size_t s) {
+          volatile double x = 1.0;
+          for (int i = 0; i < 500 * static_cast<int>(s % 3); ++i) x = x * 1.0000001;
+          value[s] = round * 100 + static_cast<int>(s);
+          ran.fetch_add(1);
+        };
+        const std::size_t stop_at = round % 2 ? 3 : kSlots;  // odd rounds: commit 3 ends the round
+        rounds.run(kSlots, body, [&](std::size_t s) {
+          EXPECT_EQ(value[s], round * 100 + static_cast<int>(s)) << "committed before its body finished";
+          committed.push_back(s);
+          return s == stop_at;
+        });
+        EXPECT_EQ(ran.load(), static_cast<int>(kSlots));
+        const std::size_t want = std::min(stop_at + 1, kSlots);
+        ASSERT_EQ(committed.size(), want) << "round " << round;
+        for (std::size_t i = 0; i < want; ++i) EXPECT_EQ(committed[i], i);
+      }
+      std::vector<std::size_t> committed;
+      auto failing = [&](std::size_t s) {
+        if (s == 5) throw std::runtime_error("slot 5");
+      };
+      EXPECT_THROW(rounds.run(kSlots, failing, [&](std::size_t s) {
+        committed.push_back(s);
+        return false;
+      }), std::runtime_error);
+      EXPECT_EQ(committed, (std::vector<std::size_t>{0, 1, 2, 3, 4}));
+    });
+  });
+}
+
 // With one thread the coordinator runs every slot itself; a body's exception is rethrown by
 // run() after the round, and leaves no helper waiting (the call returns).
 TEST(SlotRounds, OneThreadAndExceptions) {

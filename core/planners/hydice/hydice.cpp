@@ -54,11 +54,13 @@
 //    current lead's D_avail (or, without leads, every reached region). The selection weights
 //    w_sel (t(D), cov(D)) are those of the round's start; in slot order, slot s draws its region,
 //    coverage cell (the cell's selection count grows as each slot selects, as in the sequential
-//    step), state and inputs from its own stream Rng(slot_seed(seed, round, s)); the B
-//    propagations run in parallel, each slot with its own propagator and buffers, against the
-//    frozen tree; then the slots commit in slot order (t(D) counts, nodes, coverage cells; the
-//    first slot reaching the unsafe set wins; the node cap is checked before each commit, so
-//    it is exact). A round counts B motion steps toward t_σ. Leads, D_avail and the random
+//    step) and state from its own stream Rng(slot_seed(seed, round, s)); then, in parallel,
+//    each slot draws its inputs from the rest of its stream and propagates, with its own
+//    propagator and buffers, from its state in the tree as the round found it; the slots
+//    commit in slot order (t(D) counts, nodes, coverage cells; the first slot reaching the
+//    unsafe set wins; the node cap is checked before each commit, so it is exact), each as soon
+//    as it has run, while later slots may still be propagating (SlotRounds: a helper thread
+//    stands by between rounds, core/parallel_slots.hpp). A round counts B motion steps toward t_σ. Leads, D_avail and the random
 //    paths keep using the trial's stream Rng(seed); rounds are numbered over the whole trial.
 //    With batches the lead search is pipelined (issue 12 item 5): lead k + 1 is searched while
 //    the tree grows along lead k, on the lead weights frozen when that growth started (so it
@@ -939,15 +941,16 @@ class BatchStep {
           search.select(slots_[s].stream, wsel_, slots_[s].draw);
         }
         ++round_;
-        // Choose the inputs and propagate in parallel, against the frozen tree.
-        rounds.run(batch, body);
-        // Commit in slot order; the first slot reaching the unsafe set ends the search, and the
-        // node cap is checked before each commit so that it is exact.
+        // Choose the inputs and propagate in parallel, against the tree as the round found it.
+        // Commit in slot order, each slot as soon as it has run (the bodies read only the tree's
+        // existing rows, which the lock-free store never moves, and nothing else commit
+        // writes); the first slot reaching the unsafe set ends the search, and the node cap is
+        // checked before each commit so that it is exact.
         bool ended = false;
-        for (std::size_t s = 0; s < batch && !ended; ++s) {
-          if (search.at_node_cap()) break;
-          ended = search.commit(slots_[s].draw, slots_[s].outcome);
-        }
+        rounds.run(batch, body, [&](std::size_t s) {
+          if (search.at_node_cap()) return true;
+          return ended = search.commit(slots_[s].draw, slots_[s].outcome);
+        });
         if (ended || search.at_node_cap()) break;
       }
     });
