@@ -304,9 +304,10 @@ TEST(HydiceNavigation, HopsToUnsafeIsTheRegionDistance) {
       const Decomposition* d = sys->decomposition();
       const auto maze = navigation_instance(*sys);
       const auto pr = maze->properties()[property];
+      const Mode unsafe = maze->place_mode(pr.unsafe);  // n = 1: the places are quarters of terrain 0
       std::vector<int> dist(maze->terrains(), -1);
-      std::deque<Mode> queue{pr.unsafe};
-      dist[pr.unsafe] = 0;
+      std::deque<Mode> queue{unsafe};
+      dist[unsafe] = 0;
       while (!queue.empty()) {
         const Mode q = queue.front();
         queue.pop_front();
@@ -337,7 +338,7 @@ TEST(HydiceNavigation, HopsToUnsafeIsTheRegionDistance) {
       }
       int longer = 0;
       for (Mode q = 0; q < maze->terrains(); ++q) {
-        const int manhattan = std::abs(maze->row(q) - maze->row(pr.unsafe)) + std::abs(maze->col(q) - maze->col(pr.unsafe));
+        const int manhattan = std::abs(maze->row(q) - maze->row(unsafe)) + std::abs(maze->col(q) - maze->col(unsafe));
         for (RegionId r = q * 4; r < q * 4 + 4; ++r) {
           const std::string what = fmt::format("n={} property {} region {}", n, property, r);
           ASSERT_GE(rdist[r], 0) << what;  // every terrain is connected (spanning-tree maze)
