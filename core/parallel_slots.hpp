@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <exception>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 #include <thread>
 #if defined(__x86_64__) || defined(__i386__)
@@ -127,6 +128,7 @@ class SlotRounds {
   template <class Body, class Commit>
   void run(std::size_t count, Body& body, Commit&& commit) {
     if (count == 0) return;
+    if (count > kMaxSlots) throw std::invalid_argument("SlotRounds::run: more than 65535 slots in a round");
     if (count > capacity_) {
       finished_ = std::make_unique<std::atomic<std::uint64_t>[]>(count);
       capacity_ = count;
