@@ -16,6 +16,12 @@
 //    event_time_tol, at the last time before it does), the reset jump(q, k, x; p) is applied
 //    and gives the next mode. A guard already positive at the start fires at once. When several
 //    become enabled in one step the earliest wins; at equal times the lower index k wins.
+//    Optional: `double guard_peak(q, k, x, u, p)`, a function whose sign change marks where g_k
+//    peaks along the flow (a band |e| < tol: e itself; a disc: the relative position dotted with
+//    the relative velocity), 0 where there is nothing to watch. Guards are tested at step ends;
+//    a band crossed, or a disc grazed, entirely inside one step leaves g_k <= 0 at both ends.
+//    When guard_peak changes sign within a step, the integrator locates its zero, evaluates g_k
+//    there and, if it is > 0, localizes the transition before it as usual.
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the

@@ -51,6 +51,10 @@ class ModelPropagator final : public Propagator {
         x0_(dim_), x1_(dim_), xt_(dim_) {
     g0_.reserve(64);
     g1_.reserve(64);
+    if constexpr (kGuardPeaks) {
+      h0_.reserve(64);
+      h1_.reserve(64);
+    }
   }
 
   PropagationResult propagate(Mode q, std::span<const double> x, std::span<const double> u,
@@ -74,8 +78,13 @@ class ModelPropagator final : public Propagator {
     const int nk = model_.guard_count(q);
     g0_.resize(nk);
     g1_.resize(nk);
+    if constexpr (kGuardPeaks) {
+      h0_.resize(nk);
+      h1_.resize(nk);
+    }
     for (int k = 0; k < nk; ++k) {
       g0_[k] = model_.guard(q, k, x0_.data(), pp);
+      if constexpr (kGuardPeaks) h0_[k] = model_.guard_peak(q, k, x0_.data(), u.data(), pp);
       if (g0_[k] > 0.0) {
         r.mode = model_.jump(q, k, x0_.data(), pp);
         r.transition = k;
@@ -148,14 +157,17 @@ class ModelPropagator final : public Propagator {
       }
       for (int k = 0; k < nk; ++k) {
         g1_[k] = model_.guard(q, k, x1_.data(), pp);
+        double tk = std::numeric_limits<double>::infinity();
         if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-          const double tk = locate(field, t, t1,
-                                   [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
-                                   g0_[k], g1_[k]).first;
-          if (tk < event_t) {  // strict: the spec, then lower k, win ties
-            event_t = tk;
-            event = k;
-          }
+          tk = locate(field, t, t1, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+                      g0_[k], g1_[k]).first;
+        } else if constexpr (kGuardPeaks) {
+          h1_[k] = model_.guard_peak(q, k, x1_.data(), u.data(), pp);
+          tk = crossed_inside_step(field, q, k, t, t1, u.data(), pp);
+        }
+        if (tk < event_t) {  // strict: the spec, then lower k, win ties
+          event_t = tk;
+          event = k;
         }
       }
       if (event != kNoEvent) {
@@ -174,6 +186,7 @@ class ModelPropagator final : public Propagator {
       }
       std::swap(x0_, x1_);
       std::swap(g0_, g1_);
+      if constexpr (kGuardPeaks) std::swap(h0_, h1_);
       s0 = s1;
       t = t1;
     }
@@ -219,6 +232,12 @@ class ModelPropagator final : public Propagator {
   static constexpr bool kSpecSign = requires(const M m, Mode q, const double* x, const double* p) {
     { m.outside_unsafe(q, x, p) } -> std::same_as<bool>;
   };
+  // M::guard_peak(q, k, x, u, p): an optional member (model.hpp) whose sign change marks where
+  // guard k peaks inside a step, so a band or disc crossed between two step ends is not missed.
+  static constexpr bool kGuardPeaks =
+      requires(const M m, Mode q, int k, const double* x, const double* u, const double* p) {
+        { m.guard_peak(q, k, x, u, p) } -> std::convertible_to<double>;
+      };
   static constexpr int kNoEvent = -2;
   static constexpr int kSpecEvent = -1;
 
@@ -262,6 +281,25 @@ class ModelPropagator final : public Propagator {
     return bracket;
   }
 
+  // Guard k was <= 0 at both ends of the step [t, t1]; if its peak function changed sign in
+  // between, the guard may have turned > 0 and back inside the step (a band crossed, a disc
+  // grazed). Locates the peak, and when the guard is > 0 there, the earliest time before it
+  // where it turns > 0: the event time. +inf when the guard stayed off.
+  double crossed_inside_step(const FlowField& field, Mode q, int k, double t, double t1,
+                             const double* u, const double* pp) {
+    const double h0 = h0_[k], h1 = h1_[k];
+    if (!((h0 < 0.0 && h1 > 0.0) || (h0 > 0.0 && h1 < 0.0))) return std::numeric_limits<double>::infinity();
+    const double sign = h0 < 0.0 ? 1.0 : -1.0;  // phi = sign * h rises through 0 at the peak
+    const double tm =
+        locate(field, t, t1, [&](const State& xs) { return sign * model_.guard_peak(q, k, xs.data(), u, pp); },
+               sign * h0, sign * h1).second;
+    state_at(field, t, tm, xt_);
+    const double gm = model_.guard(q, k, xt_.data(), pp);
+    if (!(gm > 0.0)) return std::numeric_limits<double>::infinity();
+    return locate(field, t, tm, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+                  g0_[k], gm).first;
+  }
+
   const M& model_;
   IntegratorSettings settings_;
   Rk4 rk4_;
@@ -269,6 +307,7 @@ class ModelPropagator final : public Propagator {
   std::size_t dim_;
   State x0_, x1_, xt_;
   std::vector<double> g0_, g1_;
+  std::vector<double> h0_, h1_;  // guard_peak values at the step's ends (kGuardPeaks only)
 };
 
 }  // namespace hyfal

@@ -156,136 +156,172 @@ class MpiLink {
     int tag;
   };
 
+  // The link thread: start MPI, then pass after pass send, receive, deliver, beat and watch the
+  // peers until a stop has been flushed; then leave MPI.
   void loop(int* argc, char*** argv) {
+    if (!start_mpi(argc, argv)) return;
+    for (;;) {
+      bool stopping = false;
+      bool busy = send_queued(stopping);
+      reap_sends();
+      busy = receive() || busy;
+      busy = deliver() || busy;
+      const auto now = Clock::now();
+      beat(now);
+      watch_peers(now);
+      if (stopping && flushed(now)) break;
+      if (!busy) idle(stopping);
+    }
+    leave_mpi();
+  }
+
+  bool start_mpi(int* argc, char*** argv) {
     int provided = 0;
     if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
       std::lock_guard lock(mutex_);
       init_error_ = "MPI_Init_thread failed: this rank cannot join the MPI job";
       ready_ = true;
       cv_.notify_all();
-      return;
+      return false;
     }
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
-    const auto timeout = std::chrono::duration<double>(peer_timeout_seconds());
+    timeout_ = std::chrono::duration<double>(peer_timeout_seconds());
     const auto start = Clock::now();
     // Rank 0 watches every worker; a worker watches rank 0 only.
-    std::vector<int> peers;
     if (rank_ == 0)
-      for (int r = 1; r < size_; ++r) peers.push_back(r);
+      for (int r = 1; r < size_; ++r) peers_.push_back(r);
     else
-      peers.push_back(0);
-    std::map<int, Clock::time_point> last_seen;
-    std::set<int> dead;
-    for (int p : peers) last_seen[p] = start;
+      peers_.push_back(0);
+    for (int p : peers_) last_seen_[p] = start;
+    next_beat_ = start;
+    // A test makes one rank die right after it starts sending its first result, the moment at
+    // which its peer has the message's header but not yet its bytes.
+    const char* die = std::getenv("HYFAL_TEST_DIE_SENDING_RESULT");
+    die_sending_result_ = die && *die && std::atoi(die) == rank_;
     {
       std::lock_guard lock(mutex_);
       ready_ = true;
     }
     cv_.notify_all();
+    return true;
+  }
 
-    std::vector<InFlight> sending;
-    std::map<int, std::deque<Incoming>> receiving;  // by source, in matching order
-    std::vector<Incoming> abandoned;                // of lost peers; never freed
-    auto next_beat = start;
-    std::optional<Clock::time_point> stop_deadline;
-    // A test makes one rank die right after it starts sending its first result, the moment at
-    // which its peer has the message's header but not yet its bytes.
-    const char* die = std::getenv("HYFAL_TEST_DIE_SENDING_RESULT");
-    const bool die_sending_result = die && *die && std::atoi(die) == rank_;
-    const auto isend = [&](int peer, int tag, std::string bytes) {
-      InFlight f{MPI_REQUEST_NULL, std::make_unique<std::string>(std::move(bytes)), peer};
-      if (MPI_Isend(f.bytes->data(), static_cast<int>(f.bytes->size()), MPI_BYTE, peer, tag, MPI_COMM_WORLD,
-                    &f.request) == MPI_SUCCESS)
-        sending.push_back(std::move(f));
-      if (die_sending_result && tag == kResult) std::_Exit(9);
-    };
-    for (;;) {
-      bool busy = false;
-      std::vector<Outgoing> out;
-      bool stopping = false;
-      {
-        std::lock_guard lock(mutex_);
-        out.swap(outbox_);
-        stopping = stopping_;
-      }
-      for (auto& o : out) {
-        busy = true;
-        if (!dead.count(o.peer)) isend(o.peer, o.tag, std::move(o.bytes));
-      }
-      for (std::size_t i = 0; i < sending.size();) {
-        int done = 0;
-        if (MPI_Test(&sending[i].request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS || done) {
-          sending[i] = std::move(sending.back());
-          sending.pop_back();
-        } else {
-          ++i;
-        }
-      }
-      // Receives never block this thread: a message matched here is received with MPI_Imrecv and
-      // tested on each pass. A blocking MPI_Recv of a message whose sender was killed after its
-      // header arrived (shared memory moves larger messages by a single-copy get from the
-      // sender's memory) could wait for ever, and this thread would stop sending heartbeats, so
-      // the other ranks would take this one for lost too.
-      for (;;) {
-        int flag = 0;
-        MPI_Message message = MPI_MESSAGE_NULL;
-        MPI_Status status;
-        if (MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &message, &status) != MPI_SUCCESS || !flag) break;
-        busy = true;
-        int count = 0;
-        MPI_Get_count(&status, MPI_BYTE, &count);
-        Incoming in{MPI_REQUEST_NULL, std::make_unique<std::string>(static_cast<std::size_t>(std::max(count, 0)), '\0'),
-                    status.MPI_TAG};
-        if (MPI_Imrecv(in.bytes->data(), count, MPI_BYTE, &message, &in.request) == MPI_SUCCESS)
-          receiving[status.MPI_SOURCE].push_back(std::move(in));
-      }
-      // Delivered per peer in the order they were sent (a JOB after its WELCOME, a STOP last).
-      for (auto& [source, queue] : receiving) {
-        while (!queue.empty()) {
-          int done = 0;
-          const bool failed = MPI_Test(&queue.front().request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS;
-          if (!failed && !done) break;
-          busy = true;
-          Incoming in = std::move(queue.front());
-          queue.pop_front();
-          if (failed || dead.count(source) || !last_seen.count(source)) continue;  // a lost peer stays lost
-          last_seen[source] = Clock::now();
-          if (in.tag != kHeartbeat) events_.push(Event{source, in.tag, std::move(*in.bytes), 0, std::nullopt});
-        }
-      }
-      const auto now = Clock::now();
-      if (now >= next_beat) {
-        for (int p : peers)
-          if (!dead.count(p)) isend(p, kHeartbeat, {});
-        next_beat = now + std::chrono::seconds(1);
-      }
-      for (int p : peers)
-        if (!dead.count(p) && now - last_seen[p] > timeout) {
-          dead.insert(p);
-          events_.push(Event{p, kLost, {}, 0, std::nullopt});
-          // Its receives in progress may never complete: their buffers stay allocated (MPI may
-          // still write into them), and the process leaves without MPI_Finalize.
-          auto& pending = receiving[p];
-          for (auto& in : pending) abandoned.push_back(std::move(in));
-          pending.clear();
-        }
-      if (stopping) {
-        // Flush what is queued (a STOP, a last result), but never wait long for a peer that is
-        // gone: a send to it may never complete.
-        if (!stop_deadline) stop_deadline = now + std::chrono::seconds(5);
-        bool pending = false;
-        for (const auto& f : sending) pending = pending || !dead.count(f.peer);
-        std::lock_guard lock(mutex_);
-        if (outbox_.empty() && (!pending || now > *stop_deadline)) break;
-      }
-      if (!busy) {
-        std::unique_lock lock(mutex_);
-        cv_.wait_for(lock, std::chrono::milliseconds(1), [&] { return !outbox_.empty() || (stopping_ && !stopping); });
+  void isend(int peer, int tag, std::string bytes) {
+    InFlight f{MPI_REQUEST_NULL, std::make_unique<std::string>(std::move(bytes)), peer};
+    if (MPI_Isend(f.bytes->data(), static_cast<int>(f.bytes->size()), MPI_BYTE, peer, tag, MPI_COMM_WORLD,
+                  &f.request) == MPI_SUCCESS)
+      sending_.push_back(std::move(f));
+    if (die_sending_result_ && tag == kResult) std::_Exit(9);
+  }
+
+  // Starts a send of everything the other threads queued (to live peers). True if there was any.
+  bool send_queued(bool& stopping) {
+    std::vector<Outgoing> out;
+    {
+      std::lock_guard lock(mutex_);
+      out.swap(outbox_);
+      stopping = stopping_;
+    }
+    for (auto& o : out)
+      if (!dead_.count(o.peer)) isend(o.peer, o.tag, std::move(o.bytes));
+    return !out.empty();
+  }
+
+  void reap_sends() {
+    for (std::size_t i = 0; i < sending_.size();) {
+      int done = 0;
+      if (MPI_Test(&sending_[i].request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS || done) {
+        sending_[i] = std::move(sending_.back());
+        sending_.pop_back();
+      } else {
+        ++i;
       }
     }
-    for (auto& f : sending) {
+  }
+
+  // Receives never block this thread: a message matched here is received with MPI_Imrecv and
+  // tested on each pass. A blocking MPI_Recv of a message whose sender was killed after its
+  // header arrived (shared memory moves larger messages by a single-copy get from the sender's
+  // memory) could wait for ever, and this thread would stop sending heartbeats, so the other
+  // ranks would take this one for lost too. True if a message was matched.
+  bool receive() {
+    bool any = false;
+    for (;;) {
+      int flag = 0;
+      MPI_Message message = MPI_MESSAGE_NULL;
+      MPI_Status status;
+      if (MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &message, &status) != MPI_SUCCESS || !flag)
+        return any;
+      any = true;
+      int count = 0;
+      MPI_Get_count(&status, MPI_BYTE, &count);
+      Incoming in{MPI_REQUEST_NULL, std::make_unique<std::string>(static_cast<std::size_t>(std::max(count, 0)), '\0'),
+                  status.MPI_TAG};
+      if (MPI_Imrecv(in.bytes->data(), count, MPI_BYTE, &message, &in.request) == MPI_SUCCESS)
+        receiving_[status.MPI_SOURCE].push_back(std::move(in));
+    }
+  }
+
+  // Completed receives go to the event queue per peer in the order they were sent (a JOB after
+  // its WELCOME, a STOP last). True if any completed.
+  bool deliver() {
+    bool any = false;
+    for (auto& [source, queue] : receiving_) {
+      while (!queue.empty()) {
+        int done = 0;
+        const bool failed = MPI_Test(&queue.front().request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS;
+        if (!failed && !done) break;
+        any = true;
+        Incoming in = std::move(queue.front());
+        queue.pop_front();
+        if (failed || dead_.count(source) || !last_seen_.count(source)) continue;  // a lost peer stays lost
+        last_seen_[source] = Clock::now();
+        if (in.tag != kHeartbeat) events_.push(Event{source, in.tag, std::move(*in.bytes), 0, std::nullopt});
+      }
+    }
+    return any;
+  }
+
+  void beat(Clock::time_point now) {
+    if (now < next_beat_) return;
+    for (int p : peers_)
+      if (!dead_.count(p)) isend(p, kHeartbeat, {});
+    next_beat_ = now + std::chrono::seconds(1);
+  }
+
+  // A peer silent for longer than the timeout is lost: the other threads hear of it once.
+  void watch_peers(Clock::time_point now) {
+    for (int p : peers_)
+      if (!dead_.count(p) && now - last_seen_[p] > timeout_) {
+        dead_.insert(p);
+        events_.push(Event{p, kLost, {}, 0, std::nullopt});
+        // Its receives in progress may never complete: their buffers stay allocated (MPI may
+        // still write into them), and the process leaves without MPI_Finalize.
+        auto& pending = receiving_[p];
+        for (auto& in : pending) abandoned_.push_back(std::move(in));
+        pending.clear();
+      }
+  }
+
+  // Stopping: flush what is queued (a STOP, a last result), but never wait long for a peer that
+  // is gone: a send to it may never complete. True when the loop may end.
+  bool flushed(Clock::time_point now) {
+    if (!stop_deadline_) stop_deadline_ = now + std::chrono::seconds(5);
+    bool pending = false;
+    for (const auto& f : sending_) pending = pending || !dead_.count(f.peer);
+    std::lock_guard lock(mutex_);
+    return outbox_.empty() && (!pending || now > *stop_deadline_);
+  }
+
+  void idle(bool stopping) {
+    std::unique_lock lock(mutex_);
+    cv_.wait_for(lock, std::chrono::milliseconds(1), [&] { return !outbox_.empty() || (stopping_ && !stopping); });
+  }
+
+  void leave_mpi() {
+    for (auto& f : sending_) {
       int done = 0;
       MPI_Test(&f.request, &done, MPI_STATUS_IGNORE);
       if (!done) {
@@ -295,11 +331,23 @@ class MpiLink {
     }
     // Receives still pending (of lost peers, or unfinished at the stop) keep their buffers: the
     // process is leaving and MPI could still write into them.
-    for (auto& in : abandoned) static_cast<void>(in.bytes.release());
-    for (auto& [source, queue] : receiving)
+    for (auto& in : abandoned_) static_cast<void>(in.bytes.release());
+    for (auto& [source, queue] : receiving_)
       for (auto& in : queue) static_cast<void>(in.bytes.release());
     if (!skip_finalize_) MPI_Finalize();
   }
+
+  // The link thread's own state (only it touches these).
+  std::chrono::duration<double> timeout_{0.0};
+  std::vector<int> peers_;
+  std::map<int, Clock::time_point> last_seen_;
+  std::set<int> dead_;
+  std::vector<InFlight> sending_;
+  std::map<int, std::deque<Incoming>> receiving_;  // by source, in matching order
+  std::vector<Incoming> abandoned_;                // of lost peers; never freed
+  Clock::time_point next_beat_;
+  std::optional<Clock::time_point> stop_deadline_;
+  bool die_sending_result_ = false;
 
   EventQueue& events_;
   std::atomic<bool> skip_finalize_{false};
@@ -410,6 +458,7 @@ class MpiCluster final : public Cluster {
     std::string host;
   };
   void on_hello(int w, const Event& e, const std::string& git_commit);
+  class Run;
 
   EventQueue events_;
   MpiLink link_;
@@ -455,136 +504,172 @@ void MpiCluster::check_ranks(const std::string& git_commit) {
   }
 }
 
-void MpiCluster::run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
-                            const TrialClaim& claim) {
-  // Larger first where the caller knows (priority), else in the given order.
-  std::vector<std::size_t> order(jobs.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return jobs[a].priority > jobs[b].priority; });
-  std::deque<std::size_t> queue(order.begin(), order.end());
-  std::vector<std::size_t> rank_in_order(jobs.size());
-  for (std::size_t k = 0; k < order.size(); ++k) rank_in_order[order[k]] = k;
+// One run_trials call on rank 0: the queue of jobs (larger first where the caller knows), the
+// trials in flight per rank, and the steps of the dispatch loop.
+class MpiCluster::Run {
+ public:
+  Run(MpiCluster& cluster, const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
+      const TrialClaim& claim)
+      : c_(cluster), jobs_(jobs), options_(options), sink_(sink), claim_(claim),
+        local_threads_(options.threads > 0 ? options.threads : default_thread_count()),
+        local_(local_threads_, options, [&events = cluster.events_](std::uint64_t id, TrialResult&& r) {
+          events.push(Event{0, kLocal, {}, id, std::move(r)});
+        }) {
+    std::vector<std::size_t> order(jobs.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return jobs[a].priority > jobs[b].priority; });
+    queue_.assign(order.begin(), order.end());
+    rank_in_order_.resize(jobs.size());
+    for (std::size_t k = 0; k < order.size(); ++k) rank_in_order_[order[k]] = k;
+  }
 
-  const int local_threads = options.threads > 0 ? options.threads : default_thread_count();
-  const auto welcome = [&] {  // --threads per rank; 0: each rank's own core count
-    for (auto& [w, worker] : workers_)
-      if (worker.state == Worker::greeted) {
-        worker.threads = options.threads > 0 ? options.threads : worker.default_threads;
-        worker.state = Worker::ready;
-        link_.send(w, kWelcome, cbor({{"threads", worker.threads}}));
+  void run() {
+    try {
+      for (;;) {
+        welcome();
+        dispatch();
+        if (queue_.empty() && !any_in_flight()) break;
+        std::optional<Event> e = c_.events_.pop(std::chrono::milliseconds(200));
+        if (e) on_event(*e);
       }
-  };
-  TrialExecutor local(local_threads, options, [this](std::uint64_t id, TrialResult&& r) {
-    events_.push(Event{0, kLocal, {}, id, std::move(r)});
-  });
-  std::map<std::uint64_t, std::pair<std::size_t, int>> dispatched;  // id -> (job, rank)
-  std::map<int, std::set<std::uint64_t>> in_flight;                 // rank -> ids
-  std::size_t done = 0, skipped = 0, falsified = 0;
-  const auto t0 = Clock::now();
+    } catch (...) {
+      cancel_all();
+      throw;
+    }
+    if (options_.progress && done_ > 0) fmt::print(stderr, "\n");
+  }
 
-  const auto capacity = [&](int rank) {
-    const int threads = rank == 0 ? local_threads : workers_[rank].threads;
-    int total = local_threads;
-    for (const auto& [w, worker] : workers_)
+ private:
+  // --threads per rank; 0: each rank's own core count.
+  void welcome() {
+    for (auto& [w, worker] : c_.workers_)
+      if (worker.state == Worker::greeted) {
+        worker.threads = options_.threads > 0 ? options_.threads : worker.default_threads;
+        worker.state = Worker::ready;
+        c_.link_.send(w, kWelcome, cbor({{"threads", worker.threads}}));
+      }
+  }
+
+  // A second job per thread waits on each rank while many remain, so a rank never idles for a
+  // round trip between two short trials; near the end, one per thread, so no job waits behind a
+  // long one while another rank is free.
+  std::size_t capacity(int rank) const {
+    const int threads = rank == 0 ? local_threads_ : c_.workers_.at(rank).threads;
+    int total = local_threads_;
+    for (const auto& [w, worker] : c_.workers_)
       if (worker.state == Worker::ready) total += worker.threads;
-    // A second job per thread waits on each rank while many remain, so a rank never idles for a
-    // round trip between two short trials; near the end, one per thread, so no job waits behind a
-    // long one while another rank is free.
-    return static_cast<std::size_t>(threads) * (queue.size() > 2 * static_cast<std::size_t>(total) ? 2 : 1);
-  };
-  const auto dispatch = [&] {
+    return static_cast<std::size_t>(threads) * (queue_.size() > 2 * static_cast<std::size_t>(total) ? 2 : 1);
+  }
+
+  void dispatch() {
     std::vector<int> ranks{0};
-    for (const auto& [w, worker] : workers_)
+    for (const auto& [w, worker] : c_.workers_)
       if (worker.state == Worker::ready) ranks.push_back(w);
     for (int rank : ranks)
-      while (!queue.empty() && in_flight[rank].size() < capacity(rank)) {
-        const std::size_t i = queue.front();
-        queue.pop_front();
-        if (claim && !claim(jobs[i])) {
-          ++skipped;
+      while (!queue_.empty() && in_flight_[rank].size() < capacity(rank)) {
+        const std::size_t i = queue_.front();
+        queue_.pop_front();
+        if (claim_ && !claim_(jobs_[i])) {
+          ++skipped_;
           continue;
         }
-        const std::uint64_t id = next_id_++;
-        dispatched[id] = {i, rank};
-        in_flight[rank].insert(id);
+        const std::uint64_t id = c_.next_id_++;
+        dispatched_[id] = {i, rank};
+        in_flight_[rank].insert(id);
         if (rank == 0)
-          local.submit(id, jobs[i]);
+          local_.submit(id, jobs_[i]);
         else
-          link_.send(rank, kJob, with_id(id, encode_job(jobs[i])));
+          c_.link_.send(rank, kJob, with_id(id, encode_job(jobs_[i])));
       }
-  };
-  const auto finish_trial = [&](std::uint64_t id, TrialResult result) {
-    const auto it = dispatched.find(id);
-    if (it == dispatched.end()) return;  // a result of a cancelled run, or a duplicate
-    const int rank = it->second.second;
-    in_flight[rank].erase(id);
-    dispatched.erase(it);
-    keep_witness(result, options.witness_dir);
-    sink(result.record);
-    ++done;
-    falsified += result.record.status == TrialStatus::falsified;
-    if (options.progress) {
-      const std::size_t total = jobs.size() - skipped;
-      const double el = std::chrono::duration<double>(Clock::now() - t0).count();
-      const double eta = el / static_cast<double>(done) * static_cast<double>(total - done);
-      fmt::print(stderr, "\r[hyfal] {}/{} trials on {} ranks, {} falsified, {:.1f} s elapsed, ETA {:.1f} s   ", done,
-                 total, size(), falsified, el, eta);
+  }
+
+  void on_event(Event& e) {
+    switch (e.tag) {
+      case kLocal: finish_trial(e.id, std::move(*e.local)); break;
+      case kResult: {
+        auto [id, payload] = split_id(e.bytes);
+        finish_trial(id, decode_result(payload));
+        break;
+      }
+      case kHello: c_.on_hello(e.peer, e, options_.git_commit); break;
+      case kFatal:
+        c_.workers_[e.peer].state = Worker::dead;
+        throw ClusterError(3, fmt::format("rank {} (host {}): {}", e.peer, c_.workers_[e.peer].host,
+                                          uncbor(e.bytes).value("message", std::string("failed"))));
+      case kLost: requeue_lost(e.peer); break;
+      default: break;
     }
-  };
-  const auto any_in_flight = [&] {
-    for (const auto& [rank, ids] : in_flight)
+  }
+
+  void finish_trial(std::uint64_t id, TrialResult result) {
+    const auto it = dispatched_.find(id);
+    if (it == dispatched_.end()) return;  // a result of a cancelled run, or a duplicate
+    const int rank = it->second.second;
+    in_flight_[rank].erase(id);
+    dispatched_.erase(it);
+    keep_witness(result, options_.witness_dir);
+    sink_(result.record);
+    ++done_;
+    falsified_ += result.record.status == TrialStatus::falsified;
+    if (options_.progress) {
+      const std::size_t total = jobs_.size() - skipped_;
+      const double el = std::chrono::duration<double>(Clock::now() - t0_).count();
+      const double eta = el / static_cast<double>(done_) * static_cast<double>(total - done_);
+      fmt::print(stderr, "\r[hyfal] {}/{} trials on {} ranks, {} falsified, {:.1f} s elapsed, ETA {:.1f} s   ", done_,
+                 total, c_.size(), falsified_, el, eta);
+    }
+  }
+
+  // A lost worker's trials in flight go back to the front of the queue, in the order they were
+  // handed out (the claims are rank 0's: still ours).
+  void requeue_lost(int peer) {
+    Worker& w = c_.workers_[peer];
+    w.state = Worker::dead;
+    c_.lost_peer_ = true;
+    c_.link_.skip_finalize();
+    std::vector<std::size_t> orphans;
+    for (const std::uint64_t id : in_flight_[peer]) {
+      orphans.push_back(dispatched_[id].first);
+      dispatched_.erase(id);
+    }
+    in_flight_[peer].clear();
+    std::sort(orphans.begin(), orphans.end(), [&](std::size_t a, std::size_t b) { return rank_in_order_[a] > rank_in_order_[b]; });
+    for (const std::size_t i : orphans) queue_.push_front(i);
+    fmt::print(stderr, "[hyfal] rank {} (host {}) went silent for {:.0f} s: its {} trials in flight go to other ranks\n",
+               peer, w.host.empty() ? "?" : w.host, peer_timeout_seconds(), orphans.size());
+  }
+
+  bool any_in_flight() const {
+    for (const auto& [rank, ids] : in_flight_)
       if (!ids.empty()) return true;
     return false;
-  };
-
-  try {
-    for (;;) {
-      welcome();
-      dispatch();
-      if (queue.empty() && !any_in_flight()) break;
-      std::optional<Event> e = events_.pop(std::chrono::milliseconds(200));
-      if (!e) continue;
-      switch (e->tag) {
-        case kLocal: finish_trial(e->id, std::move(*e->local)); break;
-        case kResult: {
-          auto [id, payload] = split_id(e->bytes);
-          finish_trial(id, decode_result(payload));
-          break;
-        }
-        case kHello: on_hello(e->peer, *e, options.git_commit); break;
-        case kFatal:
-          workers_[e->peer].state = Worker::dead;
-          throw ClusterError(3, fmt::format("rank {} (host {}): {}", e->peer, workers_[e->peer].host,
-                                         uncbor(e->bytes).value("message", std::string("failed"))));
-        case kLost: {
-          Worker& w = workers_[e->peer];
-          w.state = Worker::dead;
-          lost_peer_ = true;
-          link_.skip_finalize();
-          std::vector<std::size_t> orphans;
-          for (const std::uint64_t id : in_flight[e->peer]) {
-            orphans.push_back(dispatched[id].first);
-            dispatched.erase(id);
-          }
-          in_flight[e->peer].clear();
-          // Back to the front of the queue, in the order they were handed out.
-          std::sort(orphans.begin(), orphans.end(), [&](std::size_t a, std::size_t b) { return rank_in_order[a] > rank_in_order[b]; });
-          for (const std::size_t i : orphans) queue.push_front(i);  // the claims are rank 0's: still ours
-          fmt::print(stderr, "[hyfal] rank {} (host {}) went silent for {:.0f} s: its {} trials in flight go to other ranks\n",
-                     e->peer, w.host.empty() ? "?" : w.host, peer_timeout_seconds(), orphans.size());
-          break;
-        }
-        default: break;
-      }
-    }
-  } catch (...) {
-    for (const auto& [rank, ids] : in_flight)
-      if (rank != 0 && !ids.empty() && workers_[rank].state == Worker::ready) link_.send(rank, kCancel, {});
-    local.cancel();
-    local.wait();
-    throw;
   }
-  if (options.progress && done > 0) fmt::print(stderr, "\n");
+
+  void cancel_all() {
+    for (const auto& [rank, ids] : in_flight_)
+      if (rank != 0 && !ids.empty() && c_.workers_[rank].state == Worker::ready) c_.link_.send(rank, kCancel, {});
+    local_.cancel();
+    local_.wait();
+  }
+
+  MpiCluster& c_;
+  const std::vector<TrialJob>& jobs_;
+  const EngineOptions& options_;
+  const TrialSink& sink_;
+  const TrialClaim& claim_;
+  const int local_threads_;
+  TrialExecutor local_;
+  std::deque<std::size_t> queue_;
+  std::vector<std::size_t> rank_in_order_;
+  std::map<std::uint64_t, std::pair<std::size_t, int>> dispatched_;  // id -> (job, rank)
+  std::map<int, std::set<std::uint64_t>> in_flight_;                 // rank -> ids
+  std::size_t done_ = 0, skipped_ = 0, falsified_ = 0;
+  const Clock::time_point t0_ = Clock::now();
+};
+
+void MpiCluster::run_trials(const std::vector<TrialJob>& jobs, const EngineOptions& options, const TrialSink& sink,
+                            const TrialClaim& claim) {
+  Run(*this, jobs, options, sink, claim).run();
 }
 
 int MpiCluster::serve(const SystemResolver& resolve, const std::string& git_commit) {

@@ -107,9 +107,13 @@
 //    30 s, 20 s all 8 (median 0.35 s), 40 s 6 of 8. On esposito5 (p = 5.25, 10 trials, 1M nodes)
 //    HyDICE solved 8/10 at δt = 5 s, 10/10 at 10 s and 20 s; RRT solves it at any of them.
 //  - Integration: Dormand-Prince (the heading mode's θ' = θ_goal − θ has a 1 s time constant,
-//    fixed-step RK4 would need 0.1 s everywhere), tolerances 1e-10, max_step 0.5 s: guards are
-//    sampled at least every 0.5 s, so a pair that grazes its p-disc for less than that may go
-//    unnoticed (by the tree and the validator alike: a depth below ~5 m). Witness tolerance 1e-6.
+//    fixed-step RK4 would need 0.1 s everywhere), tolerances 1e-10, max_step 0.5 s. Guards are
+//    evaluated at step ends, and each also has a peak function (guard_peak, model.hpp): the
+//    heading error for the 1e-3 band (a wind change flips the bearing's drift and the error
+//    crosses the band in ~0.1 s, inside one step: issue 27 found a witness that missed it), and
+//    the closest approach for the arrival and conflict discs; a sign change of it inside a step
+//    makes the integrator look at the guard at the peak, so neither a crossed band nor a grazed
+//    disc goes unseen. Witness tolerance 1e-6.
 //  - x_rand: positions in the bounding box of starts and goals widened by 40 km (two half-circle
 //    diameters), θ in [−π, π], τ in [0, π/c], partner in [0, N], t in [0, horizon] (horizon = the
 //    longest start-goal distance / v + 2π/c).
@@ -392,11 +396,7 @@ class Aircraft {
         da[0] = da[1] = da[2] = da[3] = 0.0;
         continue;
       }
-      double cs, sn;
-      trig(i, a[2], cs, sn);
-      const double normal = -u[0] * sn + u[1] * cs;  // the wind's component normal to the heading
-      da[0] = k_.v * cs - normal * sn;                 // seed 003 eq. 5
-      da[1] = k_.v * sn + normal * cs;                 // seed 003 eq. 6
+      velocity(i, a, u, da[0], da[1]);
       switch (m) {
         case AircraftMode::heading: da[2] = heading_error(i, a); break;
         case AircraftMode::cruise: da[2] = 0.0; break;
@@ -434,6 +434,34 @@ class Aircraft {
     if (avoiding(q, pr.i)) g = std::min(g, x[kStride * pr.i + 3] - k_.refractory);
     if (avoiding(q, pr.j)) g = std::min(g, x[kStride * pr.j + 3] - k_.refractory);
     return g;
+  }
+
+  // Where each guard peaks (model.hpp): the heading band |θ_goal − θ| < tol at e = 0 (a change of
+  // wind flips the bearing's drift and e crosses the 2e-3 rad band in a fraction of a second, inside
+  // one 0.5 s step); the arrival and conflict discs at the closest approach (relative position ·
+  // relative velocity), where a grazing pass would otherwise go unseen between step ends. 0: no
+  // peak to watch (cruise's retargeting fires outside a band, avoid's clock only rises).
+  double guard_peak(Mode q, int k, const double* x, const double* u, const double*) const {
+    if (k < n_) {
+      if (aircraft_mode(q, k) != AircraftMode::heading) return 0.0;
+      return heading_error(k, x + kStride * k);
+    }
+    if (k < 2 * n_) {
+      const int i = k - n_;
+      if (aircraft_mode(q, i) == AircraftMode::arrived) return 0.0;
+      const double* a = x + kStride * i;
+      double vx, vy;
+      velocity(i, a, u, vx, vy);
+      return (a[0] - goal_[i][0]) * vx + (a[1] - goal_[i][1]) * vy;
+    }
+    const Pair& pr = pairs_[k - 2 * n_];
+    if (!armed(q, x, pr)) return 0.0;
+    const double* a = x + kStride * pr.i;
+    const double* b = x + kStride * pr.j;
+    double vxa, vya, vxb, vyb;
+    velocity(pr.i, a, u, vxa, vya);
+    velocity(pr.j, b, u, vxb, vyb);
+    return (a[0] - b[0]) * (vxa - vxb) + (a[1] - b[1]) * (vya - vyb);
   }
 
   Mode jump(Mode q, int k, double* x, const double*) const {
@@ -504,6 +532,15 @@ class Aircraft {
     trig(i, a[2], cs, sn);
     const double gx = goal_[i][0] - a[0], gy = goal_[i][1] - a[1];
     return std::atan2(cs * gy - sn * gx, cs * gx + sn * gy);
+  }
+  // Ground velocity of flying aircraft i (seed 003 eqs. 5-6): v along the heading plus the wind's
+  // component normal to it.
+  void velocity(int i, const double* a, const double* u, double& vx, double& vy) const {
+    double cs, sn;
+    trig(i, a[2], cs, sn);
+    const double normal = -u[0] * sn + u[1] * cs;
+    vx = k_.v * cs - normal * sn;
+    vy = k_.v * sn + normal * cs;
   }
   static double distance(const double* x, int i, int j) {
     return std::sqrt(distance2(x, i, j));

@@ -114,7 +114,12 @@
 //  - Ū = 3 x 3 grid over U (the four corner winds, the four axis winds, calm).
 //  - RK4 with step 0.2 s (the fastest mode is the roll pendulum, 2.2 rad/s). Witnesses (~35
 //    pieces, ~135 s) re-simulate to within 1.9e-7 (scaled, largest over 32; 5e-9 at 0.1 s), so
-//    witness_tolerance = 1e-5 leaves a margin of 50.
+//    witness_tolerance = 1e-5 leaves a margin of 50. Guards (the waypoint and goal spheres, 10
+//    and 20 m) are evaluated at step ends, with no peak function (model.hpp): a pass through a
+//    sphere that starts and ends inside one 0.2 s step has a chord under 0.2 s × 2 m/s (the
+//    controller's speed plus the strongest wind) and so a depth under 10 − sqrt(10² − 0.2²) = 2 mm:
+//    the step bounds what can be missed, where a peak function would cost a rotation (six sines
+//    and cosines) per step.
 //  - x_rand: (x, y) in [-20, 170] x [-170, 20] (the course and ~20 m around it), z in [-14, -3],
 //    phi, theta in [-0.2, 0.2], psi in [-pi, pi], u in [0, 2], v, w in [-1, 1], rates in
 //    [-0.2, 0.2], wind in [-W, W]².

@@ -210,6 +210,15 @@ class GuardIntruder {
     if (q == 0) return law_.r_d - distance(x, k + 1);
     return distance(x, static_cast<int>(q)) - law_.r_d - law_.hysteresis;
   }
+  // Where guard k peaks (model.hpp): the intruder's distance to the guard is stationary where
+  // their relative position and velocity are orthogonal; a pass through the r_d disc (patrol) or
+  // out of it and back (pursuit) within one RK4 step is still seen.
+  double guard_peak(Mode q, int k, const double* x, const double*, const double*) const {
+    const double* g = x + 5 * (q == 0 ? k + 1 : static_cast<int>(q));
+    const double rvx = x[3] * std::cos(x[2]) - g[3] * std::cos(g[2]);
+    const double rvy = x[3] * std::sin(x[2]) - g[3] * std::sin(g[2]);
+    return (x[0] - g[0]) * rvx + (x[1] - g[1]) * rvy;
+  }
   Mode jump(Mode q, int k, double*, const double*) const {
     return q == 0 ? static_cast<Mode>(k + 1) : Mode{0};
   }

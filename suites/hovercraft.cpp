@@ -135,6 +135,11 @@ class Hovercraft {
     const double r = std::hypot(x[0], x[1]);
     return q == kVortex ? r - kRadius : (kRadius - kHysteresis) - r;
   }
+  // Where the guard peaks (model.hpp): r is stationary where x · v = 0, so a pass that enters
+  // (calm) or leaves (vortex) the disc and returns within one RK4 step is still seen.
+  double guard_peak(Mode, int, const double* x, const double*, const double*) const {
+    return x[0] * x[3] + x[1] * x[4];
+  }
   Mode jump(Mode q, int, double*, const double*) const { return q == kVortex ? kCalm : kVortex; }
   bool invariant(Mode, const double*, const double*) const { return true; }
   double spec(Mode, const double* x, const double*) const {

@@ -725,14 +725,14 @@ TEST_F(CliTest, ListShowsSuitesMethodsAndSettings) {
   EXPECT_TRUE(fs::is_empty(work())) << "list writes nothing";
 }
 
-// The README's parameter table is `hyfal list --markdown`: every setting with its valid values.
-TEST_F(CliTest, ReadmeListsEverySettingWithItsRange) {
+// docs/settings.md is `hyfal list --markdown`: every setting with its valid values.
+TEST_F(CliTest, SettingsPageListsEverySettingWithItsRange) {
   const Result r = hyfal({"list", "--markdown"});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_TRUE(contains(r.out, "| method `enhanced-rrt` | `k` | `10` | [1, 1000] |")) << r.out;
   EXPECT_TRUE(contains(r.out, "| suite `navigation` | `driver` | `\"random\"` | random\\|student\\|highway |")) << r.out;
-  const std::string readme = read_text(fs::path(HYFAL_SOURCE_DIR) / "README.md");
-  EXPECT_TRUE(contains(readme, r.out)) << "README.md must hold the output of 'hyfal list --markdown' verbatim";
+  const std::string readme = read_text(fs::path(HYFAL_SOURCE_DIR) / "docs" / "settings.md");
+  EXPECT_TRUE(contains(readme, r.out)) << "docs/settings.md must hold the output of 'hyfal list --markdown' verbatim";
   const Result list = hyfal({"list"});
   EXPECT_TRUE(contains(list.out, "--set shortest_probability=0.9")) << list.out;
   EXPECT_TRUE(contains(list.out, "[0, 1]")) << list.out;

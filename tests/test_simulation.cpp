@@ -221,6 +221,90 @@ TEST(Events, EarliestGuardWinsThenLowerIndex) {
   EXPECT_EQ(r.mode, 10u);
 }
 
+// x' = -1 through a band guard |x| < tol (like aircraft's heading band): with steps of 0.5
+// the state goes 0.3 -> -0.2, both ends outside the band. Band<true> has a peak function (x
+// itself), Band<false> has none: the integrator cannot see the crossing without it.
+template <bool kPeak>
+struct Band {
+  static constexpr double tol = 1e-3;
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 1; }
+  bool valid_mode(Mode q) const { return q <= 1; }
+  void flow(Mode, const double*, const double*, const double*, double* dx) const { dx[0] = -1.0; }
+  int guard_count(Mode q) const { return q == 0 ? 1 : 0; }
+  double guard(Mode, int, const double* x, const double*) const { return tol - std::abs(x[0]); }
+  double guard_peak(Mode, int, const double* x, const double*, const double*) const
+    requires kPeak
+  {
+    return x[0];
+  }
+  Mode jump(Mode, int, double*, const double*) const { return 1; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double*, const double*) const { return 1.0; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+TEST(Events, ABandCrossedInsideOneStepFiresItsTransition) {
+  IntegratorSettings wide = dopri5(1e-10);
+  wide.step = 0.5;
+  wide.max_step = 0.5;
+  for (const auto& s : {rk4(0.5), wide}) {
+    const Band<true> band;
+    ModelPropagator<Band<true>> prop(band, s);
+    const double x0[1] = {0.3};
+    double x1[1];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 2.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::jumped);
+    EXPECT_EQ(r.mode, 1u);
+    EXPECT_NEAR(r.duration, 0.3 - Band<true>::tol, 1e-9);  // at the band's edge, not its centre
+    EXPECT_NEAR(x1[0], Band<true>::tol, 1e-9);
+    EXPECT_LE(band.guard(0, 0, x1, nullptr), 0.0);  // taken at the last instant before g > 0
+  }
+  // Without a peak function the same crossing goes unseen (why suites with bands provide one).
+  const Band<false> blind;
+  ModelPropagator<Band<false>> prop(blind, rk4(0.5));
+  const double x0[1] = {0.3};
+  double x1[1];
+  EXPECT_EQ(prop.propagate(0, x0, kNoU, kNoP, 2.0, x1).end, PropagationEnd::completed);
+}
+
+// A straight pass by a disc of radius 0.4 around the origin: x' = (1, 0) from (-0.3, y0), steps
+// of 0.6, so both step ends lie outside the disc whatever y0. The peak function (x · v) changes
+// sign at x = 0: at y0 = 0.3 the pass grazes the disc and the transition fires where it enters
+// it; at y0 = 0.5 it passes by and nothing happens.
+struct Disc {
+  static constexpr double r = 0.4;
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 2; }
+  bool valid_mode(Mode q) const { return q <= 1; }
+  void flow(Mode, const double*, const double*, const double*, double* dx) const {
+    dx[0] = 1.0;
+    dx[1] = 0.0;
+  }
+  int guard_count(Mode q) const { return q == 0 ? 1 : 0; }
+  double guard(Mode, int, const double* x, const double*) const { return r - std::hypot(x[0], x[1]); }
+  double guard_peak(Mode, int, const double* x, const double*, const double*) const { return x[0]; }
+  Mode jump(Mode, int, double*, const double*) const { return 1; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double*, const double*) const { return 1.0; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+TEST(Events, ADiscGrazedInsideOneStepFiresAndOnePassedByDoesNot) {
+  const Disc disc;
+  ModelPropagator<Disc> prop(disc, rk4(0.6));
+  const double graze[2] = {-0.3, 0.3};
+  double x1[2];
+  const auto r = prop.propagate(0, graze, kNoU, kNoP, 1.0, x1);
+  ASSERT_EQ(r.end, PropagationEnd::jumped);
+  const double entry = -std::sqrt(Disc::r * Disc::r - 0.3 * 0.3);  // x where the chord begins
+  EXPECT_NEAR(r.duration, entry + 0.3, 1e-9);
+  EXPECT_NEAR(x1[0], entry, 1e-9);
+  const double pass[2] = {-0.3, 0.5};
+  EXPECT_EQ(prop.propagate(0, pass, kNoU, kNoP, 1.0, x1).end, PropagationEnd::completed);
+  EXPECT_NEAR(x1[0], 0.7, 1e-12);
+}
+
 TEST(Events, GuardEnabledAtStartJumpsAtOnce) {
   Ramp m;
   m.a0 = m.a1 = -1.0;  // x = 0 already satisfies x > -1
