@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -48,7 +49,7 @@ void write_output(const std::string& path, const std::string& text) {
     std::cout << text;
     return;
   }
-  cli::write_file_atomic(path, text);
+  write_file_atomic(path, text);
 }
 
 std::pair<std::string, std::string> split_setting(const std::string& s) {
@@ -355,185 +356,234 @@ int main(int argc, char** argv) {
 
 namespace {
 
-int run_command(int argc, char** argv) {
+// Every command and the values its options are parsed into (CLI11 writes them in place: the
+// object stays where it was built).
+struct CommandLine {
   CLI::App app{
       "hyfal: parallel benchmark harness for falsification of hybrid systems with RRT-family planners.\n"
       "Searches input sequences that drive a hybrid system into its unsafe set (s <= 0), records every\n"
       "trial in SQLite, writes validated witnesses, and prints summary tables."};
-  app.require_subcommand(1);
-  app.set_help_all_flag("--help-all", "help for every command");
-
   bool list_markdown = false;
-  auto* list = app.add_subcommand("list", "list suites and methods with every --set setting (default, valid values), and tables");
-  list->add_flag("--markdown", list_markdown, "print every setting as one Markdown table (as in the README)");
+  RunArgs run_args;
+  cli::ExperimentArgs experiment_args;
+  std::string table_db = "results/hyfal.sqlite", table_experiment, table_format = "md", table_output;
+  cli::ReproduceArgs reproduce_args;
+  cli::MergeArgs merge_args;
+  std::string instance_suite;
+  std::vector<std::string> instance_sets;
+  cli::PlotArgs plot_args;
+  std::string witness_file;
+  CLI::App *list = nullptr, *run = nullptr, *table = nullptr, *reproduce = nullptr, *merge = nullptr,
+           *instance_export = nullptr, *plot = nullptr, *validate = nullptr;
+  CLI::Option* run_suite = nullptr;
+};
 
-  RunArgs ra;
-  auto* run = app.add_subcommand("run", "run trials of one method on one suite instance; resumes a stored run");
+// list [--markdown]
+void add_list_command(CommandLine& c) {
+  c.list = c.app.add_subcommand("list", "list suites and methods with every --set setting (default, valid values), and tables");
+  c.list->add_flag("--markdown", c.list_markdown, "print every setting as one Markdown table (as in the README)");
+}
+
+// run: flags or an experiment file
+void add_run_command(CommandLine& c) {
+  auto* run = c.run = c.app.add_subcommand("run", "run trials of one method on one suite instance; resumes a stored run");
   run->footer(
       "On a cluster: `mpirun -n K hyfal run ...` runs the same trials on K processes: rank 0 hands them out\n"
       "and is the only one to write --db and --witness-dir; every rank runs --threads threads. Results equal\n"
       "those of one process, and a run stopped at one K resumes at any other (README: Running on a cluster).");
-  cli::ExperimentArgs xa;
-  run->add_option("file", xa.file,
+  run->add_option("file", c.experiment_args.file,
                   "an experiment file (.toml): suites, methods, trials, caps, seed and table layout (README: "
                   "\"Tables and experiments as TOML files\"); instead of --suite, --method, --set, --trials, "
                   "--timeout, --max-nodes, --seed, --experiment and --format");
-  auto* run_suite = run->add_option("--suite", ra.suite, "suite name (see 'hyfal list'); required without a file");
-  run->add_option("--method", ra.method, "method name")->capture_default_str();
-  run->add_option("--set", ra.sets, "instance parameter or method option, key=value (repeatable)");
-  run->add_option("--trials", ra.trials, "number of trials (indices 0..N-1), at most 1000000")
+  c.run_suite = run->add_option("--suite", c.run_args.suite, "suite name (see 'hyfal list'); required without a file");
+  run->add_option("--method", c.run_args.method, "method name")->capture_default_str();
+  run->add_option("--set", c.run_args.sets, "instance parameter or method option, key=value (repeatable)");
+  run->add_option("--trials", c.run_args.trials, "number of trials (indices 0..N-1), at most 1000000")
       ->check(integer_in(1, cli::kMaxTrials))->capture_default_str();
-  run->add_option("--threads", ra.threads, "worker threads, 0 = all cores, at most 1024")
+  run->add_option("--threads", c.run_args.threads, "worker threads, 0 = all cores, at most 1024")
       ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
-  run->add_option("--timeout", ra.timeout, "per-trial wall-clock limit, seconds (any positive number; very large = no limit)")
+  run->add_option("--timeout", c.run_args.timeout, "per-trial wall-clock limit, seconds (any positive number; very large = no limit)")
       ->check(positive_number())->capture_default_str();
-  run->add_option("--max-nodes", ra.max_nodes, "per-trial node cap")->check(positive_integer())->capture_default_str();
-  run->add_option("--seed", ra.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
+  run->add_option("--max-nodes", c.run_args.max_nodes, "per-trial node cap")->check(positive_integer())->capture_default_str();
+  run->add_option("--seed", c.run_args.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
       ->check(non_negative_integer())->capture_default_str();
-  run->add_option("--experiment", ra.experiment, "experiment name stored with each trial")->capture_default_str();
-  run->add_option("--db", ra.db, "SQLite results database")->capture_default_str();
-  run->add_option("--witness-dir", ra.witness_dir, "directory for witness JSON files")->capture_default_str();
-  run->add_option("--format", ra.format, "summary table format")->check(CLI::IsMember({"md", "csv"}))->capture_default_str();
-  run->add_flag("--quiet", ra.quiet, "print only the table");
-  run->add_option("--shard", ra.shard,
+  run->add_option("--experiment", c.run_args.experiment, "experiment name stored with each trial")->capture_default_str();
+  run->add_option("--db", c.run_args.db, "SQLite results database")->capture_default_str();
+  run->add_option("--witness-dir", c.run_args.witness_dir, "directory for witness JSON files")->capture_default_str();
+  run->add_option("--format", c.run_args.format, "summary table format")->check(CLI::IsMember({"md", "csv"}))->capture_default_str();
+  run->add_flag("--quiet", c.run_args.quiet, "print only the table");
+  run->add_option("--shard", c.run_args.shard,
                   "run only share i of K (0 <= i < K <= 100000): the trial indices t with t % K == i, into --db "
                   "(one database per shard, e.g. per Slurm array task; combine them with 'hyfal merge')")
       ->check(shard_text());
-  run->add_flag("--plan", ra.plan,
+  run->add_flag("--plan", c.run_args.plan,
                 "print the number of trials, the caps and an upper bound of CPU-hours (and what --db still lacks), "
                 "run nothing and write nothing");
-  run->add_option("--out-dir", xa.out_dir, "with an experiment file: where NAME.md and NAME.csv are written")
+  run->add_option("--out-dir", c.experiment_args.out_dir, "with an experiment file: where NAME.md and NAME.csv are written")
       ->capture_default_str();
-  run->add_flag("--save-trees", ra.save_trees,
+  run->add_flag("--save-trees", c.run_args.save_trees,
                 "beside each witness F.json also write F.tree.csv: the trial's search tree(s), per node its parent, "
                 "mode and state (at most 50000 edges, subsampled deterministically); results do not change; not "
                 "under mpirun");
+}
 
-  std::string tdb = "results/hyfal.sqlite", texp, tformat = "md", tout;
-  auto* table = app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
-  table->add_option("--db", tdb, "SQLite results database")->capture_default_str();
-  table->add_option("--experiment", texp, "only this experiment");
-  table->add_option("--format", tformat, "md, csv, or ompl-log (OMPL's benchmark log, one experiment per suite instance)")
+// table
+void add_table_command(CommandLine& c) {
+  auto* table = c.table = c.app.add_subcommand("table", "summarize a results database: n, falsified rate, mean/median/std/95% CI");
+  table->add_option("--db", c.table_db, "SQLite results database")->capture_default_str();
+  table->add_option("--experiment", c.table_experiment, "only this experiment");
+  table->add_option("--format", c.table_format, "md, csv, or ompl-log (OMPL's benchmark log, one experiment per suite instance)")
       ->check(CLI::IsMember({"md", "csv", "ompl-log"}))
       ->capture_default_str();
-  table->add_option("--output,-o", tout, "write to this file instead of stdout (ompl-log: or into this folder, one file per experiment)");
+  table->add_option("--output,-o", c.table_output, "write to this file instead of stdout (ompl-log: or into this folder, one file per experiment)");
+}
 
-  cli::ReproduceArgs pa;
-  auto* reproduce = app.add_subcommand(
+// reproduce ID --profile P
+void add_reproduce_command(CommandLine& c) {
+  auto* reproduce = c.reproduce = c.app.add_subcommand(
       "reproduce", "run a paper table's rows (resuming) and write <out-dir>/ID.md and .csv beside the paper's numbers");
-  reproduce->add_option("id", pa.id, "table id (see 'hyfal list') or the path of a table file (.toml)")->required();
+  reproduce->add_option("id", c.reproduce_args.id, "table id (see 'hyfal list') or the path of a table file (.toml)")->required();
   reproduce->footer("Runs on a cluster like `run` does: `mpirun -n K hyfal reproduce ID --profile P` (see `hyfal run --help`).");
-  reproduce->add_option("--profile", pa.profile,
+  reproduce->add_option("--profile", c.reproduce_args.profile,
                         "smoke (seconds), quick (minutes), full (the committed tables: larger samples, every column, "
                         "per-method caps; hours; not every table has one) or paper (the paper's set-up)")
       ->required()
       ->check(CLI::IsMember({"smoke", "quick", "full", "paper"}));
-  reproduce->add_option("--threads", pa.threads, "worker threads, 0 = all cores, at most 1024")
+  reproduce->add_option("--threads", c.reproduce_args.threads, "worker threads, 0 = all cores, at most 1024")
       ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
-  reproduce->add_option("--seed", pa.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
+  reproduce->add_option("--seed", c.reproduce_args.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
       ->check(non_negative_integer())
       ->capture_default_str();
-  reproduce->add_option("--db", pa.db, "SQLite results database")->capture_default_str();
-  reproduce->add_option("--witness-dir", pa.witness_dir, "directory for witness JSON files")->capture_default_str();
-  reproduce->add_option("--out-dir", pa.out_dir, "where ID.md and ID.csv are written")->capture_default_str();
-  reproduce->add_option("--shard", pa.shard,
+  reproduce->add_option("--db", c.reproduce_args.db, "SQLite results database")->capture_default_str();
+  reproduce->add_option("--witness-dir", c.reproduce_args.witness_dir, "directory for witness JSON files")->capture_default_str();
+  reproduce->add_option("--out-dir", c.reproduce_args.out_dir, "where ID.md and ID.csv are written")->capture_default_str();
+  reproduce->add_option("--shard", c.reproduce_args.shard,
                         "run only share i of K (0 <= i < K <= 100000) of the table's trials (position in the full "
                         "trial list % K == i), into --db; the table then covers only that database until the "
                         "shard databases are merged ('hyfal merge')")
       ->check(shard_text());
-  reproduce->add_flag("--save-trees", pa.save_trees,
+  reproduce->add_flag("--save-trees", c.reproduce_args.save_trees,
                       "write each witness's search tree beside it (F.tree.csv; hyfal plot draws it under the path); "
                       "not under mpirun");
-  reproduce->add_flag("--plan", pa.plan,
+  reproduce->add_flag("--plan", c.reproduce_args.plan,
                       "print the table's cells, trials, per-trial caps and an upper bound of CPU-hours (and what "
                       "--db still lacks), run nothing and write nothing");
+}
 
-  cli::MergeArgs ma;
-  auto* merge = app.add_subcommand(
+// merge OUT INPUTS...
+void add_merge_command(CommandLine& c) {
+  auto* merge = c.merge = c.app.add_subcommand(
       "merge",
       "merge results databases (e.g. of --shard runs) into OUT: idempotent, refuses conflicting rows, writes all or "
       "nothing");
-  merge->add_option("out", ma.out, "the merged database (created if missing; must not be an input)")->required();
-  merge->add_option("inputs", ma.inputs, "databases to merge in (only read)")->required();
-  merge->add_option("--witness-dir", ma.witness_dir,
+  merge->add_option("out", c.merge_args.out, "the merged database (created if missing; must not be an input)")->required();
+  merge->add_option("inputs", c.merge_args.inputs, "databases to merge in (only read)")->required();
+  merge->add_option("--witness-dir", c.merge_args.witness_dir,
                     "copy each merged trial's witness into this folder (as 'run' lays them out) and store the new "
                     "path; without it the stored paths are kept");
+}
 
-  std::string xsuite;
-  std::vector<std::string> xsets;
-  auto* instance = app.add_subcommand("instance", "export a suite instance as JSON for outside tools");
+// instance export
+void add_instance_command(CommandLine& c) {
+  auto* instance = c.app.add_subcommand("instance", "export a suite instance as JSON for outside tools");
   instance->require_subcommand(1);
-  auto* instance_export = instance->add_subcommand("export", "print the instance (e.g. navigation maze, dynamics, properties) as JSON");
-  instance_export->add_option("--suite", xsuite, "suite name")->required();
-  instance_export->add_option("--set", xsets, "instance parameter, key=value (repeatable)");
+  auto* instance_export = c.instance_export = instance->add_subcommand("export", "print the instance (e.g. navigation maze, dynamics, properties) as JSON");
+  instance_export->add_option("--suite", c.instance_suite, "suite name")->required();
+  instance_export->add_option("--set", c.instance_sets, "instance parameter, key=value (repeatable)");
+}
 
-  cli::PlotArgs plot_args;
-  auto* plot = app.add_subcommand(
+// plot
+void add_plot_command(CommandLine& c) {
+  auto* plot = c.plot = c.app.add_subcommand(
       "plot", "figures (PNG and SVG, Debian's python3-matplotlib): of the tables 'reproduce' wrote, or of one witness");
-  plot->add_option("tables_dir", plot_args.tables_dir, "a folder of tables from 'hyfal reproduce' (ID.csv, ID-SERIES.csv)");
-  plot->add_option("--witness", plot_args.witness,
+  plot->add_option("tables_dir", c.plot_args.tables_dir, "a folder of tables from 'hyfal reproduce' (ID.csv, ID-SERIES.csv)");
+  plot->add_option("--witness", c.plot_args.witness,
                    "a witness JSON file: its path (navigation: over the maze; aircraft: the conflict; blimp: the tower), "
                    "with the search tree under it when F.tree.csv (hyfal run --save-trees) is beside F.json");
-  plot->add_option("--tree", plot_args.tree, "with --witness: the tree file to draw (default: F.tree.csv beside F.json)");
-  plot->add_option("--out", plot_args.out,
+  plot->add_option("--tree", c.plot_args.tree, "with --witness: the tree file to draw (default: F.tree.csv beside F.json)");
+  plot->add_option("--out", c.plot_args.out,
                    "tables: the folder for the figures (default TABLES_DIR); witness: F.png, F.svg beside it "
                    "(default: the witness's path with .png)");
+}
 
-  std::string vfile;
-  auto* validate = app.add_subcommand("validate", "re-simulate a witness JSON file with a tight integrator and check it");
-  validate->add_option("file", vfile, "witness JSON file")->required();
+// validate FILE
+void add_validate_command(CommandLine& c) {
+  c.validate = c.app.add_subcommand("validate", "re-simulate a witness JSON file with a tight integrator and check it");
+  c.validate->add_option("file", c.witness_file, "witness JSON file")->required();
+}
 
-  if (argc > 1 && argv[1][0] != '-') {
-    const std::string cmd = argv[1];
-    bool known = false;
-    for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) known = known || sub->get_name() == cmd;
-    if (!known) {
-      fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance, merge, plot; see 'hyfal --help')\n", cmd);
-      return 2;
-    }
-  }
+// An unknown command gets one line naming the commands (CLI11's own message would name the
+// word as an unexpected argument). Returns the exit code, or nothing for a known command.
+std::optional<int> reject_unknown_command(const CLI::App& app, int argc, char** argv) {
+  if (argc <= 1 || argv[1][0] == '-') return std::nullopt;
+  const std::string cmd = argv[1];
+  for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (sub->get_name() == cmd) return std::nullopt;
+  fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance, merge, plot; see 'hyfal --help')\n", cmd);
+  return 2;
+}
+
+// Parses into c; returns the exit code where there is nothing to run (help, a parse error).
+std::optional<int> parse(CommandLine& c, int argc, char** argv) {
   try {
-    app.parse(argc, argv);
+    c.app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return c.app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    return c.app.exit(e);
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;
   }
+  return std::nullopt;
+}
+
+// run with flags, or with an experiment file (whose run the flags must not state again).
+int run_flags_or_file(CommandLine& c) {
+  const RunArgs& ra = c.run_args;
+  cli::ExperimentArgs& xa = c.experiment_args;
+  if (xa.file.empty()) {
+    if (c.run_suite->count() == 0) throw UsageError("--suite is required (or an experiment file)");
+    if (c.run->get_option("--out-dir")->count() > 0) throw UsageError("--out-dir is for an experiment file");
+    return cmd_run(ra);
+  }
+  // The file states what the flags would: giving both would leave one of them unused.
+  for (const char* flag : {"--suite", "--method", "--set", "--trials", "--timeout", "--max-nodes", "--seed",
+                           "--experiment", "--format"})
+    if (c.run->get_option(flag)->count() > 0)
+      throw UsageError(fmt::format("{}: the experiment file '{}' states the run; give a file or flags, not both",
+                                   flag, xa.file));
+  xa.threads = ra.threads;
+  xa.db = ra.db;
+  xa.witness_dir = ra.witness_dir;
+  xa.shard = ra.shard;
+  xa.plan = ra.plan;
+  xa.quiet = ra.quiet;
+  xa.save_trees = ra.save_trees;
+  return cli::cmd_run_experiment(xa);
+}
+
+// Runs the command that was parsed; returns its exit code.
+int dispatch(CommandLine& c) {
+  if (*c.list) return cmd_list(c.list_markdown);
+  if (*c.run) return run_flags_or_file(c);
+  if (*c.table) return cmd_table(c.table_db, c.table_experiment, c.table_format, c.table_output);
+  if (*c.validate) return cmd_validate(c.witness_file);
+  if (*c.instance_export) return cmd_instance_export(c.instance_suite, c.instance_sets);
+  if (*c.reproduce) return cli::cmd_reproduce(c.reproduce_args);
+  if (*c.merge) return cli::cmd_merge(c.merge_args);
+  if (*c.plot) {
+    c.plot_args.out_given = c.plot->get_option("--out")->count() > 0;
+    return cli::cmd_plot(c.plot_args);
+  }
+  return 0;
+}
+
+// The exception a command threw (call it in a catch block) as one line on stderr and its exit
+// code: 2 for bad input, 3 for a machine that failed (a rerun resumes), 1 for anything else.
+int report_failure() {
   try {
-    if (*list) return cmd_list(list_markdown);
-    if (*run) {
-      if (xa.file.empty()) {
-        if (run_suite->count() == 0) throw UsageError("--suite is required (or an experiment file)");
-        if (run->get_option("--out-dir")->count() > 0) throw UsageError("--out-dir is for an experiment file");
-        return cmd_run(ra);
-      }
-      // The file states what the flags would: giving both would leave one of them unused.
-      for (const char* flag : {"--suite", "--method", "--set", "--trials", "--timeout", "--max-nodes", "--seed",
-                               "--experiment", "--format"})
-        if (run->get_option(flag)->count() > 0)
-          throw UsageError(fmt::format("{}: the experiment file '{}' states the run; give a file or flags, not both",
-                                       flag, xa.file));
-      xa.threads = ra.threads;
-      xa.db = ra.db;
-      xa.witness_dir = ra.witness_dir;
-      xa.shard = ra.shard;
-      xa.plan = ra.plan;
-      xa.quiet = ra.quiet;
-      xa.save_trees = ra.save_trees;
-      return cli::cmd_run_experiment(xa);
-    }
-    if (*table) return cmd_table(tdb, texp, tformat, tout);
-    if (*validate) return cmd_validate(vfile);
-    if (*instance_export) return cmd_instance_export(xsuite, xsets);
-    if (*reproduce) return cli::cmd_reproduce(pa);
-    if (*merge) return cli::cmd_merge(ma);
-    if (*plot) {
-      plot_args.out_given = plot->get_option("--out")->count() > 0;
-      return cli::cmd_plot(plot_args);
-    }
+    throw;
   } catch (const UsageError& e) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 2;
@@ -556,7 +606,22 @@ int run_command(int argc, char** argv) {
     fmt::print(stderr, "hyfal: error: {}\n", e.what());
     return 1;
   }
-  return 0;
+}
+
+int run_command(int argc, char** argv) {
+  CommandLine c;
+  c.app.require_subcommand(1);
+  c.app.set_help_all_flag("--help-all", "help for every command");
+  for (const auto add : {add_list_command, add_run_command, add_table_command, add_reproduce_command,
+                         add_merge_command, add_instance_command, add_plot_command, add_validate_command})
+    add(c);
+  if (const auto code = reject_unknown_command(c.app, argc, argv)) return *code;
+  if (const auto code = parse(c, argc, argv)) return *code;
+  try {
+    return dispatch(c);
+  } catch (...) {
+    return report_failure();
+  }
 }
 
 }  // namespace

@@ -41,30 +41,6 @@ std::string git_commit() {
   return out.empty() ? "unknown" : out;
 }
 
-void write_file_atomic(const std::string& path, const std::string& text) {
-  // Callers check the folder up front (check_directory_creatable, bad input); what fails here is
-  // the environment: a full disk, an I/O error, a permission lost since the check.
-  const fs::path p(path), tmp = path + ".tmp";
-  try {
-    if (p.has_parent_path()) fs::create_directories(p.parent_path());
-    {
-      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out || !(out << text) || !out.flush()) {
-        const int cause = errno;
-        out.close();
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw EnvironmentError(fmt::format("cannot write '{}': {}", path, cause ? std::strerror(cause) : "write failed"));
-      }
-    }
-    fs::rename(tmp, p);
-  } catch (const fs::filesystem_error& e) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw EnvironmentError(fmt::format("cannot write '{}': {}", path, e.code().message()));
-  }
-}
-
 void check_directory_creatable(const std::string& dir, const std::string& what) {
   std::error_code ec;
   fs::path p = fs::absolute(fs::path(dir), ec);

@@ -27,12 +27,6 @@ struct UsageError : std::runtime_error {
 // The short commit of the source tree hyfal was built from, or "unknown".
 std::string git_commit();
 
-// Writes text to path through path.tmp and a rename, creating parent directories. Throws
-// EnvironmentError (one line: disk full, I/O error, permission lost; exit 3) if it cannot — a
-// caller checks the folder first (check_directory_creatable) so that a bad path is exit 2; no
-// .tmp file is left behind.
-void write_file_atomic(const std::string& path, const std::string& text);
-
 // Throws UsageError "<what> '<dir>': ..." unless dir is a directory or could be created (its
 // deepest existing ancestor is a writable directory). Creates nothing.
 void check_directory_creatable(const std::string& dir, const std::string& what);

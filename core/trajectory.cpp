@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <span>
+#include <string>
 #include <utility>
 
 #include <fmt/format.h>
@@ -268,154 +271,217 @@ double scaled_error(std::span<const double> a, std::span<const double> b) {
   return e;
 }
 
-}  // namespace
+// Why a check of a witness failed; nothing when it passed.
+using Failure = std::optional<std::string>;
 
-ValidationReport validate_witness(const System& system, const Witness& w) {
+// Every index and size the witness names, before anything uses one: a model may index its
+// tables with a mode (navigation: its terrains) and the validator indexes guards with a
+// transition. A failure here means it is no witness of this system at all (malformed).
+Failure shape_mismatch(const System& system, const Witness& w) {
   const SystemInfo& info = system.info();
   const Trajectory& t = w.trajectory;
-  const double tol = info.witness_tolerance;
-  ValidationReport r;
-  auto fail = [&](std::string why) {
-    r.valid = false;
-    r.reason = std::move(why);
-    return r;
-  };
-  auto malformed = [&](std::string why) {
-    r.malformed = true;
-    return fail(std::move(why));
-  };
   const std::size_t n = info.dim();
-  if (w.suite != info.suite) return malformed(fmt::format("witness is for suite '{}', not '{}'", w.suite, info.suite));
+  if (w.suite != info.suite) return fmt::format("witness is for suite '{}', not '{}'", w.suite, info.suite);
   if (t.initial_x.size() != n || t.final_x.size() != n)
-    return malformed(fmt::format("witness states have {} values, the system has {}", t.initial_x.size(), n));
+    return fmt::format("witness states have {} values, the system has {}", t.initial_x.size(), n);
   if (t.parameters.size() != info.parameter_box.dim())
-    return malformed(fmt::format("witness has {} parameters, the system has {}", t.parameters.size(),
-                                 info.parameter_box.dim()));
-  // Every index and size the witness names, before anything uses one: a model may index its
-  // tables with a mode (navigation: its terrains) and the validator indexes guards with a
-  // transition. Durations too, so that the work a witness asks for is bounded: no method makes a
-  // piece longer than δt (the relative slack absorbs the rounding of r.duration).
-  const double longest = info.step_duration * (1.0 + 1e-9);
+    return fmt::format("witness has {} parameters, the system has {}", t.parameters.size(), info.parameter_box.dim());
   if (!system.valid_mode(t.initial_mode))
-    return malformed(fmt::format("initial.mode = {} is not a mode of suite '{}'", t.initial_mode, info.suite));
+    return fmt::format("initial.mode = {} is not a mode of suite '{}'", t.initial_mode, info.suite);
   for (std::size_t i = 0; i < t.pieces.size(); ++i) {
     const TrajectoryPiece& piece = t.pieces[i];
     if (!system.valid_mode(piece.mode))
-      return malformed(fmt::format("pieces[{}].mode = {} is not a mode of suite '{}'", i, piece.mode, info.suite));
+      return fmt::format("pieces[{}].mode = {} is not a mode of suite '{}'", i, piece.mode, info.suite);
     if (piece.x_start.size() != n || piece.x_end.size() != n)
-      return malformed(fmt::format("piece {} has states of the wrong size", i));
+      return fmt::format("piece {} has states of the wrong size", i);
     const std::size_t m = system.inputs(piece.mode).dim();
-    if (piece.u.size() != m) return malformed(fmt::format("piece {}: u has {} values, U has {}", i, piece.u.size(), m));
+    if (piece.u.size() != m) return fmt::format("piece {}: u has {} values, U has {}", i, piece.u.size(), m);
     if (piece.transition < -1 || piece.transition >= system.guard_count(piece.mode))
-      return malformed(fmt::format("pieces[{}].transition = {}: mode {} has {} transitions (indices from 0)", i,
-                                   piece.transition, system.mode_name(piece.mode), system.guard_count(piece.mode)));
+      return fmt::format("pieces[{}].transition = {}: mode {} has {} transitions (indices from 0)", i,
+                         piece.transition, system.mode_name(piece.mode), system.guard_count(piece.mode));
   }
   if (!system.valid_mode(t.final_mode))
-    return malformed(fmt::format("final.mode = {} is not a mode of suite '{}'", t.final_mode, info.suite));
-  for (std::size_t i = 0; i < t.pieces.size(); ++i)  // (after every malformation: those are bad input)
-    if (!(t.pieces[i].duration >= 0.0 && t.pieces[i].duration <= longest))
-      return fail(fmt::format("pieces[{}].duration = {:.6g} s is longer than any method extends a node (δt = {:.6g} s)",
-                              i, t.pieces[i].duration, info.step_duration));
+    return fmt::format("final.mode = {} is not a mode of suite '{}'", t.final_mode, info.suite);
+  return std::nullopt;
+}
 
+// Durations, parameters and the start, against what the system allows (checked after every
+// malformation: those are bad input). Durations bound the work a witness asks for: no method
+// makes a piece longer than δt (the relative slack absorbs the rounding of r.duration).
+Failure outside_the_system(const System& system, const Trajectory& t) {
+  const SystemInfo& info = system.info();
+  const double tol = info.witness_tolerance;
+  const double longest = info.step_duration * (1.0 + 1e-9);
+  for (std::size_t i = 0; i < t.pieces.size(); ++i)
+    if (!(t.pieces[i].duration >= 0.0 && t.pieces[i].duration <= longest))
+      return fmt::format("pieces[{}].duration = {:.6g} s is longer than any method extends a node (δt = {:.6g} s)", i,
+                         t.pieces[i].duration, info.step_duration);
   for (std::size_t i = 0; i < t.parameters.size(); ++i)
     if (t.parameters[i] < info.parameter_box.lo[i] - tol || t.parameters[i] > info.parameter_box.hi[i] + tol)
-      return fail(fmt::format("parameter {} = {} is outside P", i, t.parameters[i]));
+      return fmt::format("parameter {} = {} is outside P", i, t.parameters[i]);
   bool known_start = scaled_error(t.initial_x, info.initial_state) <= tol;
   for (const auto& x0 : info.other_initial_states) known_start = known_start || scaled_error(t.initial_x, x0) <= tol;
   if (t.initial_mode != info.initial_mode || !known_start)
-    return fail("the initial state is not one of the system's initial states");
+    return "the initial state is not one of the system's initial states";
+  return std::nullopt;
+}
 
-  // A tight, independent integrator: adaptive Dormand-Prince whatever the tree used.
+// A tight, independent integrator: adaptive Dormand-Prince whatever the tree used.
+IntegratorSettings tight_integrator(const SystemInfo& info) {
   IntegratorSettings tight;
   tight.kind = IntegratorKind::dopri5;
   tight.abs_tol = 1e-12;
   tight.rel_tol = 1e-12;
   tight.max_step = std::min(info.integrator.max_step, info.step_duration);
   tight.step = tight.max_step / 8;
-  if (!(tight.max_step > 0.0)) return fail("the system's integrator has no positive maximal step");
-  // The work, bounded before it starts: sub-intervals of at most max_step over all pieces (each
-  // at least one). Witnesses of hyfal's methods need about 40 per piece and at most thousands of
-  // pieces; only a suite instance with a maximal step far below δt can ask for more.
+  return tight;
+}
+
+// The work, bounded before it starts: sub-intervals of at most max_step over all pieces (each
+// at least one). Witnesses of hyfal's methods need about 40 per piece and at most thousands of
+// pieces; only a suite instance with a maximal step far below δt can ask for more.
+Failure too_much_work(const Trajectory& t, double max_step) {
+  if (!(max_step > 0.0)) return "the system's integrator has no positive maximal step";
   constexpr double kMaxSubIntervals = 1e7;
   double sub_intervals = 0.0;
-  for (const auto& piece : t.pieces) sub_intervals += std::max(1.0, std::ceil(piece.duration / tight.max_step));
+  for (const auto& piece : t.pieces) sub_intervals += std::max(1.0, std::ceil(piece.duration / max_step));
   if (!(sub_intervals <= kMaxSubIntervals))
-    return fail(fmt::format("re-simulating the witness needs {:.3g} integration intervals of at most {:.3g} s, "
-                            "more than {:.0e}", sub_intervals, tight.max_step, kMaxSubIntervals));
-  auto prop = system.make_propagator(tight);
-  const std::span<const double> p = t.parameters;
+    return fmt::format("re-simulating the witness needs {:.3g} integration intervals of at most {:.3g} s, "
+                       "more than {:.0e}", sub_intervals, max_step, kMaxSubIntervals);
+  return std::nullopt;
+}
 
-  Mode q = t.initial_mode;
-  std::vector<double> x = t.initial_x, next(n);
-  for (std::size_t i = 0; i < t.pieces.size(); ++i) {
-    const TrajectoryPiece& piece = t.pieces[i];
-    if (piece.mode != q)
-      return fail(fmt::format("piece {} flows in mode {}, but the execution is in mode {}", i,
-                              system.mode_name(piece.mode), system.mode_name(q)));
-    const double e0 = scaled_error(x, piece.x_start);
-    r.max_state_error = std::max(r.max_state_error, e0);
-    if (e0 > tol) return fail(fmt::format("piece {}: x_start differs from the re-simulated state by {:.3g}", i, e0));
-    const InputSet& U = system.inputs(q);
-    for (std::size_t k = 0; k < U.dim(); ++k)
-      if (piece.u[k] < U.box.lo[k] - tol || piece.u[k] > U.box.hi[k] + tol)
-        return fail(fmt::format("piece {}: input {} = {} is outside U", i, k, piece.u[k]));
-    if (system.state_dependent_inputs()) {  // a driver model: u must be admissible at x_start
-      // The recorded x_start (within tol of the re-simulation, checked above) is the state the
-      // method chose u at; a driver's bands are discontinuous, so it is the one to judge by.
-      std::vector<double> lo(U.dim()), hi(U.dim());
-      system.input_bounds(q, piece.x_start, lo, hi);
-      for (std::size_t k = 0; k < U.dim(); ++k)
-        if (piece.u[k] < lo[k] - tol || piece.u[k] > hi[k] + tol)
-          return fail(fmt::format("piece {}: input {} = {} is outside the admissible [{}, {}] at x_start", i, k,
-                                  piece.u[k], lo[k], hi[k]));
-    }
-    // Flow in short sub-intervals; inside the piece the invariant must hold and no transition
-    // may be enabled (they are urgent). The count is 64-bit and bounded (above).
-    const auto sub = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(piece.duration / tight.max_step)));
-    const double h = piece.duration / static_cast<double>(sub);
-    for (std::int64_t s = 0; s < sub; ++s) {
-      std::int64_t steps = -1;
-      try {
-        steps = prop->flow(q, x, piece.u, p, h, next);
-      } catch (const std::exception& e) {  // odeint gives up on a step size it cannot control
-        return fail(fmt::format("piece {}: the integrator failed: {}", i, e.what()));
-      }
-      if (steps < 0) return fail(fmt::format("piece {}: the state became non-finite", i));
-      x.swap(next);
-      const bool inside = (s + 1 < sub);
-      const double at = h * static_cast<double>(s + 1);
-      if (!system.invariant(q, x, p) && inside)
-        return fail(fmt::format("piece {}: the invariant of mode {} fails at t = {:.6g}", i,
-                                system.mode_name(q), at));
-      if (inside)
-        for (int k = 0; k < system.guard_count(q); ++k)
-          if (system.guard(q, k, x, p) > tol)
-            return fail(fmt::format("piece {}: transition {} is enabled at t = {:.6g} inside the piece, "
-                                    "but transitions are urgent", i, k, at));
-    }
-    const double e1 = scaled_error(x, piece.x_end);
-    r.max_state_error = std::max(r.max_state_error, e1);
-    if (e1 > tol) return fail(fmt::format("piece {}: x_end differs from the re-simulated state by {:.3g}", i, e1));
-    if (piece.transition >= 0) {  // a guard index of q (checked above)
-      const int k = piece.transition;
-      if (system.guard(q, k, x, p) < -tol)
-        return fail(fmt::format("piece {}: transition {} is not enabled at the end of the piece", i, k));
-      q = system.jump(q, k, x, p);
-    }
+// Whether the piece's input lies in U, and (a driver model) is admissible at its x_start.
+Failure inadmissible_input(const System& system, Mode q, const TrajectoryPiece& piece, std::size_t i, double tol) {
+  const InputSet& U = system.inputs(q);
+  for (std::size_t k = 0; k < U.dim(); ++k)
+    if (piece.u[k] < U.box.lo[k] - tol || piece.u[k] > U.box.hi[k] + tol)
+      return fmt::format("piece {}: input {} = {} is outside U", i, k, piece.u[k]);
+  if (!system.state_dependent_inputs()) return std::nullopt;
+  // The recorded x_start (within tol of the re-simulation, checked before) is the state the
+  // method chose u at; a driver's bands are discontinuous, so it is the one to judge by.
+  std::vector<double> lo(U.dim()), hi(U.dim());
+  system.input_bounds(q, piece.x_start, lo, hi);
+  for (std::size_t k = 0; k < U.dim(); ++k)
+    if (piece.u[k] < lo[k] - tol || piece.u[k] > hi[k] + tol)
+      return fmt::format("piece {}: input {} = {} is outside the admissible [{}, {}] at x_start", i, k, piece.u[k],
+                         lo[k], hi[k]);
+  return std::nullopt;
+}
+
+// The execution as re-simulated so far: where it is, and the largest error of a recorded state.
+struct Replay {
+  const System& system;
+  Propagator& propagator;  // the tight one
+  std::span<const double> p;
+  double tol = 0.0, max_step = 0.0;
+  Mode q = 0;
+  std::vector<double> x, next;
+  double max_state_error = 0.0;
+
+  // Records the error of a recorded state against the re-simulated one; returns it.
+  double error_of(std::span<const double> recorded) {
+    const double e = scaled_error(x, recorded);
+    max_state_error = std::max(max_state_error, e);
+    return e;
   }
-  const double ef = scaled_error(x, t.final_x);
-  r.max_state_error = std::max(r.max_state_error, ef);
-  if (q != t.final_mode) return fail(fmt::format("the final mode is {}, the execution ends in {}", system.mode_name(t.final_mode), system.mode_name(q)));
-  if (ef > tol) return fail(fmt::format("the final state differs from the re-simulated one by {:.3g}", ef));
-  r.final_spec = system.spec(q, x, p);
-  if (std::abs(r.final_spec - t.final_spec) > tol * (1.0 + std::abs(r.final_spec)))
-    return fail(fmt::format("the recorded final s = {:.6g} differs from the re-simulated s = {:.6g}",
-                            t.final_spec, r.final_spec));
-  if (r.final_spec > tol)
-    return fail(fmt::format("the re-simulated final state is safe: s = {:.6g} > {:.3g}", r.final_spec, tol));
+};
+
+// Flows the piece in short sub-intervals (their count is 64-bit and bounded: too_much_work);
+// inside the piece the invariant must hold and no transition may be enabled (they are urgent).
+Failure flow_through(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
+  const System& system = run.system;
+  const Mode q = run.q;
+  const auto sub = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(piece.duration / run.max_step)));
+  const double h = piece.duration / static_cast<double>(sub);
+  for (std::int64_t s = 0; s < sub; ++s) {
+    std::int64_t steps = -1;
+    try {
+      steps = run.propagator.flow(q, run.x, piece.u, run.p, h, run.next);
+    } catch (const std::exception& e) {  // odeint gives up on a step size it cannot control
+      return fmt::format("piece {}: the integrator failed: {}", i, e.what());
+    }
+    if (steps < 0) return fmt::format("piece {}: the state became non-finite", i);
+    run.x.swap(run.next);
+    const bool inside = (s + 1 < sub);
+    const double at = h * static_cast<double>(s + 1);
+    if (!system.invariant(q, run.x, run.p) && inside)
+      return fmt::format("piece {}: the invariant of mode {} fails at t = {:.6g}", i, system.mode_name(q), at);
+    if (inside)
+      for (int k = 0; k < system.guard_count(q); ++k)
+        if (system.guard(q, k, run.x, run.p) > run.tol)
+          return fmt::format("piece {}: transition {} is enabled at t = {:.6g} inside the piece, "
+                             "but transitions are urgent", i, k, at);
+  }
+  return std::nullopt;
+}
+
+// Re-simulates piece i from where the execution is: its mode, start, input, flow, end and jump.
+Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
+  const System& system = run.system;
+  if (piece.mode != run.q)
+    return fmt::format("piece {} flows in mode {}, but the execution is in mode {}", i, system.mode_name(piece.mode),
+                       system.mode_name(run.q));
+  if (const double e0 = run.error_of(piece.x_start); e0 > run.tol)
+    return fmt::format("piece {}: x_start differs from the re-simulated state by {:.3g}", i, e0);
+  if (Failure why = inadmissible_input(system, run.q, piece, i, run.tol)) return why;
+  if (Failure why = flow_through(run, piece, i)) return why;
+  if (const double e1 = run.error_of(piece.x_end); e1 > run.tol)
+    return fmt::format("piece {}: x_end differs from the re-simulated state by {:.3g}", i, e1);
+  if (piece.transition >= 0) {  // a guard index of q (shape_mismatch checked it)
+    const int k = piece.transition;
+    if (system.guard(run.q, k, run.x, run.p) < -run.tol)
+      return fmt::format("piece {}: transition {} is not enabled at the end of the piece", i, k);
+    run.q = system.jump(run.q, k, run.x, run.p);
+  }
+  return std::nullopt;
+}
+
+// Where the re-simulation ends against the recorded end: mode, state, s, and s <= 0.
+Failure final_state_mismatch(Replay& run, const Trajectory& t, double& final_spec) {
+  const System& system = run.system;
+  const double ef = run.error_of(t.final_x);
+  if (run.q != t.final_mode)
+    return fmt::format("the final mode is {}, the execution ends in {}", system.mode_name(t.final_mode),
+                       system.mode_name(run.q));
+  if (ef > run.tol) return fmt::format("the final state differs from the re-simulated one by {:.3g}", ef);
+  final_spec = system.spec(run.q, run.x, run.p);
+  if (std::abs(final_spec - t.final_spec) > run.tol * (1.0 + std::abs(final_spec)))
+    return fmt::format("the recorded final s = {:.6g} differs from the re-simulated s = {:.6g}", t.final_spec,
+                       final_spec);
+  if (final_spec > run.tol)
+    return fmt::format("the re-simulated final state is safe: s = {:.6g} > {:.3g}", final_spec, run.tol);
+  return std::nullopt;
+}
+
+}  // namespace
+
+ValidationReport validate_witness(const System& system, const Witness& w) {
+  const Trajectory& t = w.trajectory;
+  ValidationReport r;
+  const auto fail = [&](std::string why) {
+    r.reason = std::move(why);
+    return r;
+  };
+  if (Failure why = shape_mismatch(system, w)) {
+    r.malformed = true;
+    return fail(std::move(*why));
+  }
+  if (Failure why = outside_the_system(system, t)) return fail(std::move(*why));
+  const IntegratorSettings tight = tight_integrator(system.info());
+  if (Failure why = too_much_work(t, tight.max_step)) return fail(std::move(*why));
+
+  const auto propagator = system.make_propagator(tight);
+  Replay run{system, *propagator, t.parameters, system.info().witness_tolerance, tight.max_step, t.initial_mode,
+             t.initial_x, std::vector<double>(t.initial_x.size())};
+  Failure why;
+  for (std::size_t i = 0; i < t.pieces.size() && !why; ++i) why = replay_piece(run, t.pieces[i], i);
+  if (!why) why = final_state_mismatch(run, t, r.final_spec);
+  r.max_state_error = run.max_state_error;
+  if (why) return fail(std::move(*why));
   r.valid = true;
-  r.reason = fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, final s = {:.6g}",
-                         t.pieces.size(), r.max_state_error, r.final_spec);
+  r.reason = fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, final s = {:.6g}", t.pieces.size(),
+                         r.max_state_error, r.final_spec);
   return r;
 }
 

@@ -23,45 +23,13 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "core/files.hpp"
 #include "core/rng.hpp"
 #include "core/trial_cpu.hpp"
 
 namespace hyfal {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// Writes `text` to `path` atomically (temporary file, then rename): a reader never sees half.
-// Any failure removes the temporary file and throws EnvironmentError with the cause.
-void write_file_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  const auto fail = [&](const std::string& what, int error) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw EnvironmentError(fmt::format("cannot write witness '{}': {}: {}", path.string(), what, std::strerror(error)));
-  };
-  std::error_code ec;
-  fs::create_directories(path.parent_path(), ec);
-  if (ec) fail(fmt::format("cannot create '{}'", path.parent_path().string()), ec.value());
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail("cannot create it", errno);
-  for (std::size_t written = 0; written < text.size();) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = n < 0 ? errno : EIO;
-      ::close(fd);
-      fail("write failed", error);
-    }
-    written += static_cast<std::size_t>(n);
-  }
-  if (::close(fd) != 0) fail("write failed", errno);  // e.g. ENOSPC reported at close (NFS)
-  fs::rename(tmp, path, ec);
-  if (ec) fail("cannot rename the temporary file", ec.value());
-}
-
-}  // namespace
 
 int default_thread_count() { return std::max(1, tbb::info::default_concurrency()); }
 
@@ -242,8 +210,8 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
 void keep_witness(TrialResult& result, const std::string& witness_dir) {
   if (result.witness_text.empty() || witness_dir.empty()) return;
   const std::string path = witness_path(witness_dir, result.record.key);
-  if (!result.tree_text.empty()) write_file_atomically(tree_path(path), result.tree_text);  // never a witness without it
-  write_file_atomically(path, result.witness_text);
+  if (!result.tree_text.empty()) write_file_atomic(tree_path(path), result.tree_text, "witness");  // never a witness without it
+  write_file_atomic(path, result.witness_text, "witness");
   result.record.witness = path;
 }
 

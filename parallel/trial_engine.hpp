@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/files.hpp"  // EnvironmentError
 #include "core/planner.hpp"
 #include "core/trial_record.hpp"
 
@@ -35,14 +36,6 @@ struct EngineOptions {
   // --save-trees: a falsifying trial's search tree(s) go beside its witness (tree_path), as
   // tree_file_text writes them. Off, the planners record nothing (PlannerContext::trees null).
   bool save_trees = false;
-};
-
-// A failure of the machine, not of the input or of a trial: a witness that cannot be written
-// (disk full, permission lost, its folder gone). The trial's result cannot be kept, so the run
-// stops; the command exits with code 3, and a rerun resumes.
-class EnvironmentError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
 };
 
 using TrialSink = std::function<void(const TrialRecord&)>;

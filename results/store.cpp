@@ -408,31 +408,46 @@ bool existing_database_file(const std::string& path) {
 
 void remove_unused_wal_files(const std::string& path) noexcept;
 
+// Removes the -wal and -shm files of a database (remove_unused_wal_files) when destroyed, unless
+// disarmed. Declared before the connection it guards, it runs after that connection has closed,
+// also when the constructor holding both throws half-way (a database that fails its first read).
+class WalFilesCleanup {
+ public:
+  WalFilesCleanup() = default;
+  WalFilesCleanup(const WalFilesCleanup&) = delete;
+  WalFilesCleanup& operator=(const WalFilesCleanup&) = delete;
+  ~WalFilesCleanup() {
+    if (!path_.empty()) remove_unused_wal_files(path_);
+  }
+  void arm(const std::string& path) { path_ = path; }
+  // The path whose files are no longer removed here (empty when disarmed already).
+  std::string disarm() { return std::exchange(path_, std::string()); }
+
+ private:
+  std::string path_;
+};
+
 // A read-only connection to an existing database file. A read-only connection in WAL mode
 // creates the -wal (empty) and -shm files when they are missing, and cannot delete them when it
 // closes (SQLite's last writer does): once it has closed, they are removed (see
-// remove_unused_wal_files).
+// remove_unused_wal_files), whether the database was read or failed to be.
 class ReadOnlyConnection {
  public:
   explicit ReadOnlyConnection(const std::string& path);
   ReadOnlyConnection(const ReadOnlyConnection&) = delete;
   ReadOnlyConnection& operator=(const ReadOnlyConnection&) = delete;
-  ~ReadOnlyConnection() {
-    connection_.reset();
-    if (may_leave_wal_files_) remove_unused_wal_files(path_);
-  }
 
   sqlite3* get() const { return connection_.get(); }
   // Hands the connection over; whoever closes it must then remove the -wal/-shm files of the
   // returned path, unless it is empty.
   std::pair<sqlite3*, std::string> release() {
-    const bool cleanup = std::exchange(may_leave_wal_files_, false);
-    return {connection_.release(), cleanup ? path_ : std::string()};
+    std::string cleanup = wal_files_.disarm();
+    return {connection_.release(), std::move(cleanup)};
   }
 
  private:
   std::string path_;
-  bool may_leave_wal_files_ = false;  // false when read as immutable (no -wal/-shm at all)
+  WalFilesCleanup wal_files_;  // not armed when read as immutable (no -wal/-shm at all)
   RawConnection connection_{nullptr, &sqlite3_close_v2};
 };
 
@@ -446,14 +461,14 @@ ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
   const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_URI;
   connection_ = open_connection(path, sqlite_uri(path, immutable ? "mode=ro&immutable=1" : "mode=ro"), flags);
   if (immutable) return;
-  may_leave_wal_files_ = true;
+  wal_files_.arm(path);
   // The first read opens the WAL index (-shm); where it cannot be created (a read-only folder)
   // SQLite fails with SQLITE_CANTOPEN, and the file is read as immutable instead.
   const int rc = sqlite3_exec(connection_.get(), "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
   if ((rc & 0xff) == SQLITE_CANTOPEN || rc == SQLITE_READONLY_CANTINIT || rc == SQLITE_READONLY_RECOVERY ||
       rc == SQLITE_READONLY_DIRECTORY) {
     connection_ = open_connection(path, sqlite_uri(path, "mode=ro&immutable=1"), flags);
-    may_leave_wal_files_ = false;
+    wal_files_.disarm();
   } else if ((rc & 0xff) == SQLITE_NOTADB) {
     throw_not_hyfal(path, sqlite3_errmsg(connection_.get()));
   } else if (rc != SQLITE_OK) {
@@ -648,6 +663,13 @@ TrialStore TrialStore::open_once(const std::string& path) {
   }
   RawConnection raw =
       open_connection(path, sqlite_uri(path, "mode=rwc"), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_URI);
+  // SQLite opens a file it may not write read-only, without a word; its first read would then
+  // create -wal and -shm files that no read-only connection can remove. Refused before that read.
+  if (sqlite3_db_readonly(raw.get(), "main") == 1)
+    throw StoreError(StoreErrorKind::environment,
+                     fmt::format("cannot open results database '{}' for writing: {}", path,
+                                 sqlite3_errstr(SQLITE_READONLY)),
+                     SQLITE_READONLY);
   Connection connection(raw.release());
   configure(connection.get(), path);
   // Another process may have filled an empty file in between: check what we now write to.

@@ -115,7 +115,9 @@ constexpr const char* kMemoryCap = "ulimit -v 8388608 && ";
 constexpr int kSlowdown = 1;
 #endif
 
-inline Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120) {
+// launcher (ending in a space) runs before the binary, e.g. to drop privileges.
+inline Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120,
+                        const std::string& launcher = "") {
   static std::atomic<int> counter{0};
   fs::create_directories(io_dir);
   const int n = counter++;
@@ -125,7 +127,9 @@ inline Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args&
   cmd += quote(cwd.string());
   cmd += " && ";
   cmd += kMemoryCap;
-  cmd += "exec timeout -s KILL ";
+  cmd += "exec ";
+  cmd += launcher;
+  cmd += "timeout -s KILL ";
   cmd += std::to_string(time_cap_s * kSlowdown);  // a safety net, not a speed assertion
   cmd += ' ';
   cmd += quote(HYFAL_BIN);
