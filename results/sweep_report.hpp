@@ -61,9 +61,11 @@ std::string to_markdown(const SweepReport& report, const ReportHeader& header);
 // RFC 4180 CSV, one line per (block, row, column run): table,profile,block,row,method,column,
 // paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,errors,time_std_s,
 // time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,
-// paper_previous,verdict,p_value (NaN empty, X = inf; timeouts counts every stopped trial;
-// paper_previous, verdict and p_value: the ordering test against the row before this one in the
-// paper's order of the column, empty for the first).
+// paper_previous,verdict,p_value,skipped,statistic (NaN empty, X = inf; timeouts counts every
+// stopped trial; paper_previous, verdict and p_value: the ordering test against the row before
+// this one in the paper's order of the column, empty for the first; statistic: "mean" or
+// "median", which of ours_mean and ours_median the table's cells show, so that a figure drawn
+// from the CSV plots the table's statistic).
 std::string to_csv(const SweepReport& report, const ReportHeader& header);
 
 }  // namespace hyfal
