@@ -15,6 +15,8 @@ row,trial_index,x,y) and writes <figure>.png and <figure>.svg into DIR (default 
   plaku-table1.csv                       seed 002 Table 1 as a figure: time against |Q|, per driver
   plaku-table2.csv                       seed 002 Table 2 as a figure: time against N aircraft
   ompl-navigation.csv                    HyDICE vs OMPL's planners: time against |Q| (as plaku-table1)
+  <experiment>.csv                       an experiment's table (`hyfal run FILE.toml`): its measure
+                                         per column, one line per row, the baseline row thicker
 
 Only the figures whose CSVs exist are made (with --only ID: only table ID's); other files are
 ignored. The output is byte-for-byte
@@ -494,6 +496,90 @@ def plot_plaku_table2(path, out_dir):
 
 
 # ---------------------------------------------------------------------------------------------
+# Experiments (`hyfal run FILE.toml`): the table's measure per column, one line per row
+
+EXPERIMENT_COLUMNS = ("block", "row", "column", "n", "timeouts", "node_caps", "value", "baseline")
+EXPERIMENT_MEASURES = {  # the table's `value` -> (CSV column, axis label, a lower bound when stopped)
+    "falsified_rate": ("falsified_rate", "falsified rate", False),
+    "time_mean_s": ("time_mean_s", "mean time (s)", True),
+    "time_median_s": ("time_median_s", "median time (s)", True),
+    "nodes_mean": ("nodes_mean", "mean nodes", True),
+    "nodes_median": ("nodes_median", "median nodes", True),
+}
+
+
+def is_experiment_csv(path):
+    """Whether path is an experiment table's CSV (its header starts block,row,column,suite)."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            header = next(csv.reader(f), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    return header[:4] == ["block", "row", "column", "suite"] and "value" in header
+
+
+def read_experiment_table(path):
+    """({block: {row: [cell dict, ...]}}, measure, baseline row) of an experiment's CSV; a cell's
+    "ours" is the table's measure (its `value` column), "censored" when the measure is a time or
+    node count and some trials were stopped (the table's "≥")."""
+    blocks, measures, baseline = OrderedDict(), set(), None
+    for i, r in enumerate(read_csv_rows(path, EXPERIMENT_COLUMNS), start=2):
+        measure = r["value"].strip()
+        if measure not in EXPERIMENT_MEASURES:
+            raise InputError(f"{path}:{i}: value: {measure!r} is not one of {', '.join(EXPERIMENT_MEASURES)}")
+        measures.add(measure)
+        column, _, bounded = EXPERIMENT_MEASURES[measure]
+        if column not in r:
+            raise InputError(f"{path}: missing column {column}")
+        value = r[column].strip()
+        n = int(parse_float(path, i, r["n"] or "0"))
+        stopped = int(parse_float(path, i, r["timeouts"] or "0")) + int(parse_float(path, i, r["node_caps"] or "0"))
+        baseline = baseline or (r["baseline"].strip() or None)
+        cell = {"column": r["column"], "ours": parse_float(path, i, value) if value else None, "n": n,
+                "timeouts": stopped if bounded else 0, "censored": bounded and stopped > 0, "paper": ""}
+        blocks.setdefault(r["block"], OrderedDict()).setdefault(r["row"], []).append(cell)
+    if len(measures) > 1:
+        raise InputError(f"{path}: value: one table shows one measure, found {', '.join(sorted(measures))}")
+    return blocks, (measures.pop() if measures else "time_median_s"), baseline
+
+
+def plot_experiment(path, out_dir):
+    """An experiment's figure: per block a panel, the table's measure against its columns, one
+    line per row (the baseline row thicker); lower bounds as in the sweep figures."""
+    blocks, measure, baseline = read_experiment_table(path)
+    if not blocks:
+        return []
+    name = os.path.splitext(os.path.basename(path))[0]
+    fig, axes = plt.subplots(1, len(blocks), figsize=(max(7, 5 * len(blocks)), 4.8), sharey=True, squeeze=False)
+    colours = {}
+    values = []
+    for ax, (block, rows) in zip(axes[0], blocks.items()):
+        columns = list(OrderedDict((c["column"], None) for cells in rows.values() for c in cells))
+        x_of_column = lambda label, columns=columns: columns.index(label) if label in columns else None
+        draw_method_lines(ax, rows, x_of_column, colours)
+        for line in ax.get_lines():  # no paper here: a row is just its label
+            if line.get_label() == f"{baseline} (ours)":
+                line.set_linewidth(3.0)
+                line.set_label(f"{baseline} (baseline)")
+            elif line.get_label().endswith(" (ours)"):
+                line.set_label(line.get_label()[:-len(" (ours)")])
+        ax.set_xlim(-0.5, len(columns) - 0.5)
+        values += [c["ours"] for cells in rows.values() for c in cells if c["ours"] is not None]
+        ax.set_xticks(range(len(columns)), columns, rotation=20 if len(columns) > 4 else 0, fontsize=8)
+        ax.set_title(block or name)
+    if values and min(values) > 0 and max(values) / min(values) >= 100:
+        for ax in axes[0]:
+            ax.set_yscale("log")
+    axes[0][0].set_ylabel(EXPERIMENT_MEASURES[measure][1])
+    if EXPERIMENT_MEASURES[measure][2]:
+        add_timeout_note(axes[0][-1])
+    axes[0][-1].legend(loc="best", fontsize=8)
+    fig.suptitle(f"{name}: {EXPERIMENT_MEASURES[measure][1]} (the table's cells)")
+    fig.tight_layout()
+    return save_figure(fig, out_dir, name)
+
+
+# ---------------------------------------------------------------------------------------------
 # Driver
 
 
@@ -521,6 +607,8 @@ def figure_jobs(tables_dir, only=None):
         elif (m := esposito.fullmatch(name)):
             suite, suffix = m.group(1), m.group(2)
             jobs.append((path, lambda p, o, s=suite, x=suffix: plot_esposito_series(p, o, s, x)))
+        elif name.endswith(".csv") and is_experiment_csv(path):
+            jobs.append((path, plot_experiment))
     return jobs
 
 
