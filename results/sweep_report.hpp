@@ -56,7 +56,10 @@ SweepReport make_sweep_report(const PaperTable& table,
 // Markdown: per block our cells and the paper's, the fastest method and first X per column, a
 // statistics table (per row and run column: n, falsified, stopped, then mean, median, std and
 // 95 % CI of time and of nodes), and one ordering line per run column with its pair verdicts;
-// then the verdict counts over the table and how they are decided.
+// then the verdict counts over the table and how they are decided. A block without a number of
+// the paper's (a table of our own, e.g. ompl-navigation) has no paper table, its fastest and
+// first-X lines show ours only, and it has no ordering lines; a table without any has no verdict
+// counts either.
 std::string to_markdown(const SweepReport& report, const ReportHeader& header);
 // RFC 4180 CSV, one line per (block, row, column run): table,profile,block,row,method,column,
 // paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,errors,time_std_s,
