@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -491,13 +492,29 @@ GroupMeasure read_measure(const TomlReader& r, const toml::node& node, const std
          fmt::format("unknown value '{}' (falsified_rate, time_mean_s, time_median_s, nodes_mean, nodes_median)", name));
 }
 
-}  // namespace
+// A bound on the groups, so that a typo in a list cannot ask for an absurd grid.
+constexpr std::size_t kMaxGroups = 100'000;
 
-ExperimentFile load_experiment_file(std::string_view text, const std::string& file_name) {
-  const TomlReader r(text, file_name);
-  const toml::table& root = r.root();
-  r.check_keys(root, "", {"name", "trials", "timeout_s", "max_nodes", "seed", "suites", "methods", "table"});
-  ExperimentFile e;
+std::size_t grid_size(const GridAxes& axes) {  // saturating at kMaxGroups + 1
+  std::size_t n = 1;
+  for (const auto& [k, values] : axes) n = std::min(n * values.size(), kMaxGroups + 1);
+  return n;
+}
+
+[[noreturn]] void fail_too_many(const TomlReader& r, const toml::node& at, const std::string& key) {
+  r.fail(at, key, fmt::format("the experiment has more than {} groups", kMaxGroups));
+}
+
+// A key given as a list somewhere is a grid axis, and so a dimension of the table.
+void note_grid_keys(const toml::node& settings, const GridAxes& axes, std::vector<std::string>& setting_keys) {
+  for (const auto& [key, values] : axes)
+    if (settings.as_table()->get(key)->is_array() &&
+        std::find(setting_keys.begin(), setting_keys.end(), key) == setting_keys.end())
+      setting_keys.push_back(key);
+}
+
+// name, trials, timeout_s, max_nodes, seed.
+void read_run_keys(const TomlReader& r, const toml::table& root, ExperimentFile& e) {
   const toml::node& name_node = r.require(root, "", "name");
   e.name = r.string(name_node, "name");
   try {
@@ -511,33 +528,19 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
   if (!(e.timeout_s > 0.0)) r.fail(timeout, "timeout_s", "must be positive");
   e.max_nodes = r.integer(r.require(root, "", "max_nodes"), "max_nodes", 1, INT64_MAX);
   if (const auto* s = r.find(root, "seed")) e.seed = static_cast<std::uint64_t>(r.integer(*s, "seed", 0, INT64_MAX));
+}
 
-  // Suites and their instance grids.
-  struct SuitePoint {
-    const SuiteEntry* suite;
-    Settings settings;
-  };
+struct SuitePoint {
+  const SuiteEntry* suite;
+  Settings settings;
+};
+
+// [[suites]]: each suite's instance grid, expanded; its list-valued keys noted as dimensions.
+std::vector<SuitePoint> read_suite_instances(const TomlReader& r, const toml::table& root,
+                                             std::vector<std::string>& setting_keys) {
   std::vector<SuitePoint> instances;
-  std::vector<std::string> setting_keys;  // every setting key of the file: possible dimensions
-  // A key given as a list somewhere is a grid axis, and so a dimension of the table.
-  const auto note_keys = [&](const toml::node& settings, const GridAxes& axes) {
-    for (const auto& [key, values] : axes)
-      if (settings.as_table()->get(key)->is_array() &&
-          std::find(setting_keys.begin(), setting_keys.end(), key) == setting_keys.end())
-        setting_keys.push_back(key);
-  };
   const toml::array& suites = r.array(r.require(root, "", "suites"), "suites");
   if (suites.empty()) r.fail(suites, "suites", "an experiment needs at least one suite");
-  // A bound on the groups, so that a typo in a list cannot ask for an absurd grid.
-  constexpr std::size_t kMaxGroups = 100'000;
-  const auto grid_size = [&](const GridAxes& axes) {  // saturating at kMaxGroups + 1
-    std::size_t n = 1;
-    for (const auto& [k, values] : axes) n = std::min(n * values.size(), kMaxGroups + 1);
-    return n;
-  };
-  const auto too_many = [&](const toml::node& at, const std::string& key) {
-    r.fail(at, key, fmt::format("the experiment has more than {} groups", kMaxGroups));
-  };
   for (std::size_t i = 0; i < suites.size(); ++i) {
     const std::string at = TomlReader::index("suites", i);
     const toml::table& t = r.table(suites[i], at);
@@ -548,18 +551,23 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
     GridAxes axes;
     if (const auto* s = r.find(t, "settings")) {
       axes = read_grid_settings(r, *s, TomlReader::join(at, "settings"), SettingScope{suite, {}});
-      note_keys(*s, axes);
-      if (instances.size() + grid_size(axes) > kMaxGroups) too_many(*s, TomlReader::join(at, "settings"));
+      note_grid_keys(*s, axes, setting_keys);
+      if (instances.size() + grid_size(axes) > kMaxGroups) fail_too_many(r, *s, TomlReader::join(at, "settings"));
     }
     for (Settings& point : expand_grid(axes)) instances.push_back({suite, std::move(point)});
   }
+  return instances;
+}
 
-  // Methods and their option grids.
-  struct MethodPoint {
-    const MethodEntry* method;
-    std::string label;
-    Settings options;
-  };
+struct MethodPoint {
+  const MethodEntry* method;
+  std::string label;
+  Settings options;
+};
+
+// [[methods]]: each method's option grid, expanded; its list-valued keys noted as dimensions.
+std::vector<MethodPoint> read_method_variants(const TomlReader& r, const toml::table& root, std::size_t instances,
+                                              std::vector<std::string>& setting_keys) {
   std::vector<MethodPoint> variants;
   const toml::array& methods = r.array(r.require(root, "", "methods"), "methods");
   if (methods.empty()) r.fail(methods, "methods", "an experiment needs at least one method");
@@ -579,51 +587,70 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
       // every method.
       static const SuiteEntry kNoParameters{};
       axes = read_grid_settings(r, *o, TomlReader::join(at, "options"), SettingScope{&kNoParameters, {method}});
-      note_keys(*o, axes);
-      if ((variants.size() + grid_size(axes)) * instances.size() > kMaxGroups) too_many(*o, TomlReader::join(at, "options"));
+      note_grid_keys(*o, axes, setting_keys);
+      if ((variants.size() + grid_size(axes)) * instances > kMaxGroups) fail_too_many(r, *o, TomlReader::join(at, "options"));
     }
     for (Settings& point : expand_grid(axes)) variants.push_back({method, label, std::move(point)});
   }
+  return variants;
+}
 
-  // The layout: which dimensions form blocks, rows and columns.
-  std::vector<std::string> dimensions = {"suite", "method"};
-  dimensions.insert(dimensions.end(), setting_keys.begin(), setting_keys.end());
+bool is_placed(const ExperimentFile& e, const std::string& d) {
+  for (const auto* list : {&e.blocks, &e.rows, &e.columns})
+    if (std::find(list->begin(), list->end(), d) != list->end()) return true;
+  return false;
+}
+
+// [table] blocks, rows and columns: each a list of the experiment's dimensions, none placed twice.
+// Returns whether rows and columns were given.
+std::pair<bool, bool> read_placed_dimensions(const TomlReader& r, const toml::table& table,
+                                             const std::vector<std::string>& dimensions, ExperimentFile& e) {
   bool rows_given = false, columns_given = false;
+  std::vector<std::string> placed;
+  for (auto [key, list] : {std::pair{"blocks", &e.blocks}, std::pair{"rows", &e.rows}, std::pair{"columns", &e.columns}}) {
+    const toml::node* node = r.find(table, key);
+    if (!node) continue;
+    const std::string at = TomlReader::join("table", key);
+    *list = r.strings(*node, at);
+    rows_given = rows_given || std::string_view(key) == "rows";
+    columns_given = columns_given || std::string_view(key) == "columns";
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const std::string& d = (*list)[i];
+      const toml::node& element = (*node->as_array())[i];
+      if (std::find(dimensions.begin(), dimensions.end(), d) == dimensions.end()) {
+        std::string known;
+        for (const auto& k : dimensions) known += (known.empty() ? "" : ", ") + k;
+        r.fail(element, TomlReader::index(at, i), fmt::format("'{}' is not a dimension of this experiment ({})", d, known));
+      }
+      if (std::find(placed.begin(), placed.end(), d) != placed.end())
+        r.fail(element, TomlReader::index(at, i), fmt::format("'{}' is placed twice", d));
+      placed.push_back(d);
+    }
+  }
+  return {rows_given, columns_given};
+}
+
+// [table]: which dimensions form blocks, rows and columns (defaults: methods down, suites
+// across), and what a cell shows. Returns the `baseline` key's node, checked once rows exist.
+const toml::node* read_layout(const TomlReader& r, const toml::table& root, const std::vector<std::string>& dimensions,
+                              ExperimentFile& e) {
+  bool rows_given = false, columns_given = false;
+  const toml::node* baseline = nullptr;
   if (const auto* t = r.find(root, "table")) {
     const toml::table& table = r.table(*t, "table");
-    r.check_keys(table, "table", {"rows", "columns", "blocks", "value"});
-    std::vector<std::string> placed;
-    for (auto [key, list] : {std::pair{"blocks", &e.blocks}, std::pair{"rows", &e.rows}, std::pair{"columns", &e.columns}}) {
-      const toml::node* node = r.find(table, key);
-      if (!node) continue;
-      const std::string at = TomlReader::join("table", key);
-      *list = r.strings(*node, at);
-      rows_given = rows_given || std::string_view(key) == "rows";
-      columns_given = columns_given || std::string_view(key) == "columns";
-      for (std::size_t i = 0; i < list->size(); ++i) {
-        const std::string& d = (*list)[i];
-        const toml::node& element = (*node->as_array())[i];
-        if (std::find(dimensions.begin(), dimensions.end(), d) == dimensions.end()) {
-          std::string known;
-          for (const auto& k : dimensions) known += (known.empty() ? "" : ", ") + k;
-          r.fail(element, TomlReader::index(at, i), fmt::format("'{}' is not a dimension of this experiment ({})", d, known));
-        }
-        if (std::find(placed.begin(), placed.end(), d) != placed.end())
-          r.fail(element, TomlReader::index(at, i), fmt::format("'{}' is placed twice", d));
-        placed.push_back(d);
-      }
-    }
+    r.check_keys(table, "table", {"rows", "columns", "blocks", "value", "baseline"});
+    std::tie(rows_given, columns_given) = read_placed_dimensions(r, table, dimensions, e);
     if (const auto* v = r.find(table, "value")) e.value = read_measure(r, *v, "table.value");
+    if ((baseline = r.find(table, "baseline"))) e.baseline = r.string(*baseline, "table.baseline");
   }
-  const auto placed = [&](const std::string& d) {
-    for (const auto* list : {&e.blocks, &e.rows, &e.columns})
-      if (std::find(list->begin(), list->end(), d) != list->end()) return true;
-    return false;
-  };
-  // Defaults: methods down, suites across.
-  if (!rows_given && !placed("method")) e.rows.push_back("method");
-  if (!columns_given && !placed("suite")) e.columns.push_back("suite");
+  if (!rows_given && !is_placed(e, "method")) e.rows.push_back("method");
+  if (!columns_given && !is_placed(e, "suite")) e.columns.push_back("suite");
+  return baseline;
+}
 
+// Every method variant on every suite instance.
+std::vector<ExperimentGroup> make_groups(const std::vector<SuitePoint>& instances, const std::vector<MethodPoint>& variants) {
+  std::vector<ExperimentGroup> groups;
   for (const SuitePoint& instance : instances)
     for (const MethodPoint& variant : variants) {
       ExperimentGroup g;
@@ -632,31 +659,71 @@ ExperimentFile load_experiment_file(std::string_view text, const std::string& fi
       g.method_label = variant.label;
       g.settings = instance.settings;
       g.settings.insert(g.settings.end(), variant.options.begin(), variant.options.end());
-      e.groups.push_back(std::move(g));
+      groups.push_back(std::move(g));
     }
+  return groups;
+}
 
-  // A dimension's value in a group: a setting the group does not set reads "default".
-  const auto value_of = [](const ExperimentGroup& g, const std::string& d) -> std::string {
-    if (d == "suite") return g.suite->name;
-    if (d == "method") return g.method_label;
-    for (const auto& [k, v] : g.settings)
-      if (k == d) return k + "=" + v;
-    return d + "=default";
-  };
-  // A dimension that varies but is not placed would put several groups in one cell: it joins the rows.
+// A dimension's value in a group: a setting the group does not set reads "default".
+std::string dimension_value(const ExperimentGroup& g, const std::string& d) {
+  if (d == "suite") return g.suite->name;
+  if (d == "method") return g.method_label;
+  for (const auto& [k, v] : g.settings)
+    if (k == d) return k + "=" + v;
+  return d + "=default";
+}
+
+// Each group's block, row and column labels; a dimension that varies but is not placed would put
+// several groups in one cell, so it joins the rows first.
+void place_groups(const std::vector<std::string>& dimensions, ExperimentFile& e) {
   for (const std::string& d : dimensions)
-    if (!placed(d))
+    if (!is_placed(e, d))
       for (const ExperimentGroup& g : e.groups)
-        if (value_of(g, d) != value_of(e.groups.front(), d)) {
+        if (dimension_value(g, d) != dimension_value(e.groups.front(), d)) {
           e.rows.push_back(d);
           break;
         }
   const auto label = [&](const ExperimentGroup& g, const std::vector<std::string>& dims) {
     std::string s;
-    for (const std::string& d : dims) s += (s.empty() ? "" : ", ") + value_of(g, d);
+    for (const std::string& d : dims) s += (s.empty() ? "" : ", ") + dimension_value(g, d);
     return s;
   };
   for (ExperimentGroup& g : e.groups) g.place = {label(g, e.blocks), label(g, e.rows), label(g, e.columns)};
+}
+
+// The baseline row the verdicts compare against: the one the file names, else the first row.
+void resolve_baseline(const TomlReader& r, const toml::node* baseline, ExperimentFile& e) {
+  std::vector<std::string> rows;
+  for (const ExperimentGroup& g : e.groups)
+    if (std::find(rows.begin(), rows.end(), g.place.row) == rows.end()) rows.push_back(g.place.row);
+  if (!baseline) {
+    e.baseline = rows.empty() ? "" : rows.front();
+    return;
+  }
+  if (std::find(rows.begin(), rows.end(), e.baseline) == rows.end()) {
+    std::string known;
+    for (const auto& row : rows) known += (known.empty() ? "'" : ", '") + row + "'";
+    r.fail(*baseline, "table.baseline", fmt::format("'{}' names no row of the table (rows: {})", e.baseline, known));
+  }
+}
+
+}  // namespace
+
+ExperimentFile load_experiment_file(std::string_view text, const std::string& file_name) {
+  const TomlReader r(text, file_name);
+  const toml::table& root = r.root();
+  r.check_keys(root, "", {"name", "trials", "timeout_s", "max_nodes", "seed", "suites", "methods", "table"});
+  ExperimentFile e;
+  read_run_keys(r, root, e);
+  std::vector<std::string> setting_keys;  // every list-valued setting key of the file: possible dimensions
+  const std::vector<SuitePoint> instances = read_suite_instances(r, root, setting_keys);
+  const std::vector<MethodPoint> variants = read_method_variants(r, root, instances.size(), setting_keys);
+  std::vector<std::string> dimensions = {"suite", "method"};
+  dimensions.insert(dimensions.end(), setting_keys.begin(), setting_keys.end());
+  const toml::node* baseline = read_layout(r, root, dimensions, e);
+  e.groups = make_groups(instances, variants);
+  place_groups(dimensions, e);
+  resolve_baseline(r, baseline, e);
   return e;
 }
 

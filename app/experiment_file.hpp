@@ -72,12 +72,15 @@ struct ExperimentFile {
   std::uint64_t seed = 1;
   std::vector<std::string> rows, columns, blocks;  // dimensions; a varying one not placed joins rows
   GroupMeasure value = GroupMeasure::time_median_s;
+  // The row the verdicts compare every other row against (`[table] baseline`, a row label as the
+  // table prints it, e.g. "rrt" or "history, step=0.1"); default: the first row.
+  std::string baseline;
   std::vector<ExperimentGroup> groups;  // suites x their grid x methods x their grid
 };
 
 // Reads an experiment file; checks everything load_paper_table checks of the same keys (syntax,
 // keys, types, registry names, setting keys and values), the experiment name (as --experiment)
-// and the layout. Throws ExperimentFileError.
+// and the layout, and that `baseline` names a row. Throws ExperimentFileError.
 ExperimentFile load_experiment_file(std::string_view text, const std::string& file_name);
 
 }  // namespace hyfal

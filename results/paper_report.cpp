@@ -99,8 +99,7 @@ PaperReportCell make_cell(const PaperColumn& column, const PaperReportRow& row,
       // The rate's test compares the 0/1 indicators (Gehan's test without censoring is the
       // Wilcoxon-Mann-Whitney test; on 0/1 values its tie-corrected permutation variance makes
       // it the two-proportion test). Errors count as not falsified, as in the rate.
-      for (const TrialRecord& trial : trials)
-        cell.observations.push_back({trial.status == TrialStatus::falsified ? 1.0 : 0.0, false});
+      cell.observations = falsified_indicators(trials);
       if (row.n >= 2) {  // the std of the 0/1 sample, so every column's CSV line has one
         const std::vector<double> indicators = [&] {
           std::vector<double> v;
@@ -191,7 +190,9 @@ std::string order_text(const PaperReport& report, const std::vector<std::size_t>
   return text.empty() ? std::string(kMissing) : text;
 }
 
-// An exact permutation p-value reads "p = …", a normal approximation "p ≈ …" (GehanTest).
+
+}  // namespace
+
 std::string p_value_text(double p, bool exact) {
   const std::string_view relation = exact ? "=" : "≈";
   if (p < 0.001) return "p < 0.001";
@@ -201,7 +202,6 @@ std::string p_value_text(double p, bool exact) {
   return fmt::format("p {} {}", relation, text);
 }
 
-}  // namespace
 
 std::vector<double> metric_values(const std::vector<TrialRecord>& trials, const std::string& key) {
   std::vector<double> values;

@@ -96,6 +96,11 @@ std::string_view to_string(OrderingVerdict verdict);
 // "A < B: holds (p = 0.002); B < C: within noise (p = 0.41)" (paper ties read "A = B").
 std::string pairs_text(const OrderingCheck& check, const std::vector<std::string>& row_labels);
 
+// A test's p-value as the tables print it: "p = 0.041" for an exact permutation p-value, "p ≈ …"
+// for the normal approximation (GehanTest::p_exact), "p < 0.001"; enough digits to show which
+// side of kSignificanceLevel it is on.
+std::string p_value_text(double p, bool exact);
+
 // "3 hold, 1 within noise, 0 reversed" (+ ", k too few trials", ", k differ" where k > 0), the
 // pair verdicts of `checks` counted together.
 std::string verdict_counts_text(const std::vector<const OrderingCheck*>& checks);

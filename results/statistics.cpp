@@ -48,6 +48,13 @@ std::vector<CensoredValue> censored_sample(std::span<const TrialRecord> trials, 
   return sample;
 }
 
+std::vector<CensoredValue> falsified_indicators(std::span<const TrialRecord> trials) {
+  std::vector<CensoredValue> sample;
+  sample.reserve(trials.size());
+  for (const TrialRecord& trial : trials) sample.push_back({trial.status == TrialStatus::falsified ? 1.0 : 0.0, false});
+  return sample;
+}
+
 namespace {
 
 // Gehan's score of the pair (a, b): -1 if a is certainly smaller than b, +1 if certainly

@@ -69,6 +69,15 @@ enum class TrialMeasure { wall_s, nodes };
 // they had when stopped (is_right_censored), in trial order.
 std::vector<CensoredValue> censored_sample(std::span<const TrialRecord> trials, TrialMeasure measure);
 
+// Whether each trial falsified, as the exact values 1 (falsified) or 0 (errors count as not
+// falsified, as in GroupSummary::falsified_rate), in trial order: the sample the tables' tests of
+// a falsified rate compare. On such 0/1 samples compare_samples is Fisher's exact test: Gehan's
+// scores of 0/1 values make W = K N - m O (K: the ones among the first sample's m, O: all ones, N:
+// all trials), linear in K, so the exact permutation p-value is P(|K' - m O / N| >= |K - m O / N|)
+// under the hypergeometric distribution of K' (the two-sided Fisher test whose tables are at
+// least as far from the expected count as the one observed).
+std::vector<CensoredValue> falsified_indicators(std::span<const TrialRecord> trials);
+
 // Gehan's generalized Wilcoxon test of two right-censored samples (Gehan 1965, "A generalized
 // Wilcoxon test for comparing arbitrarily singly-censored samples", Biometrika 52: 203-223),
 // with the permutation variance of Mantel's scores (Mantel 1967, "Ranking procedures for

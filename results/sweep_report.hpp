@@ -56,14 +56,19 @@ SweepReport make_sweep_report(const PaperTable& table,
 // Markdown: per block our cells and the paper's, the fastest method and first X per column, a
 // statistics table (per row and run column: n, falsified, stopped, then mean, median, std and
 // 95 % CI of time and of nodes), and one ordering line per run column with its pair verdicts;
-// then the verdict counts over the table and how they are decided.
+// then the verdict counts over the table and how they are decided. A block without a number of
+// the paper's (a table of our own, e.g. ompl-navigation) has no paper table, its fastest and
+// first-X lines show ours only, and it has no ordering lines; a table without any has no verdict
+// counts either.
 std::string to_markdown(const SweepReport& report, const ReportHeader& header);
 // RFC 4180 CSV, one line per (block, row, column run): table,profile,block,row,method,column,
 // paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,errors,time_std_s,
 // time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,
-// paper_previous,verdict,p_value (NaN empty, X = inf; timeouts counts every stopped trial;
-// paper_previous, verdict and p_value: the ordering test against the row before this one in the
-// paper's order of the column, empty for the first).
+// paper_previous,verdict,p_value,skipped,statistic (NaN empty, X = inf; timeouts counts every
+// stopped trial; paper_previous, verdict and p_value: the ordering test against the row before
+// this one in the paper's order of the column, empty for the first; statistic: "mean" or
+// "median", which of ours_mean and ours_median the table's cells show, so that a figure drawn
+// from the CSV plots the table's statistic).
 std::string to_csv(const SweepReport& report, const ReportHeader& header);
 
 }  // namespace hyfal

@@ -57,9 +57,19 @@ std::string to_markdown(std::span<const GroupSummary> groups) {
       !groups.empty() && std::any_of(groups.begin(), groups.end(), [&](const GroupSummary& group) {
         return group.config != groups.front().config;
       });
-
   std::vector<std::string> header{"suite", "instance", "method"};
   if (show_config) header.emplace_back("config");
+  std::vector<std::vector<std::string>> labels;
+  for (const GroupSummary& group : groups) {
+    labels.push_back({group.suite, group.instance, group.method});
+    if (show_config) labels.back().push_back(group.config);
+  }
+  return to_markdown(groups, header, labels);
+}
+
+std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<std::string>& label_header,
+                        const std::vector<std::vector<std::string>>& labels) {
+  std::vector<std::string> header = label_header;
   for (const char* name : {"n", "falsified", "rate", "time median (s)", "time mean ± 95% CI (s)",
                            "time std", "nodes median", "nodes mean ± 95% CI", "nodes std", "timeouts"})
     header.emplace_back(name);
@@ -67,16 +77,16 @@ std::string to_markdown(std::span<const GroupSummary> groups) {
   std::string table = markdown_row(header);
   std::vector<std::string> separator;
   for (std::size_t column = 0; column < header.size(); ++column)
-    separator.emplace_back(column < (show_config ? 4u : 3u) ? "---" : "--:");  // numbers right
+    separator.emplace_back(column < label_header.size() ? "---" : "--:");  // numbers right
   table += markdown_row(separator);
 
   bool any_censored = false;
-  for (const GroupSummary& group : groups) {
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const GroupSummary& group = groups[i];
     const bool censored = is_censored(group);
     any_censored = any_censored || censored;
-    std::vector<std::string> row{markdown_cell(group.suite), markdown_cell(group.instance),
-                                 markdown_cell(group.method)};
-    if (show_config) row.push_back(markdown_cell(group.config));
+    std::vector<std::string> row;
+    for (const std::string& label : labels[i]) row.push_back(markdown_cell(label));
     row.push_back(fmt::format("{}", group.n));
     row.push_back(fmt::format("{}", group.falsified));
     row.push_back(fmt::format("{:.2f}", group.falsified_rate));
@@ -102,12 +112,18 @@ std::string to_markdown(std::span<const GroupSummary> groups) {
 std::string to_csv(std::span<const GroupSummary> groups) { return to_csv(groups, {}); }
 
 std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPlace> places) {
+  return to_csv(groups, places, {}, {});
+}
+
+std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPlace> places,
+                   const std::vector<std::string>& extra_header, const std::vector<std::vector<std::string>>& extra) {
   constexpr std::string_view kLineEnd = "\r\n";
   std::string csv = places.empty() ? "" : "block,row,column,";
   csv +=
       "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
       "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
       "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high";
+  for (const std::string& name : extra_header) csv += "," + csv_field(name);
   csv += kLineEnd;
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const GroupSummary& group = groups[i];
@@ -138,6 +154,8 @@ std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPl
         csv_number(group.nodes.ci_high),
     };
     csv += fmt::format("{}", fmt::join(fields, ","));
+    if (i < extra.size())
+      for (const std::string& field : extra[i]) csv += "," + csv_field(field);
     csv += kLineEnd;
   }
   return csv;

@@ -18,6 +18,12 @@ namespace hyfal {
 // line below the table then explains "≥". Missing statistics (e.g. a CI of one trial) read "–".
 std::string to_markdown(std::span<const GroupSummary> groups);
 
+// The same table with the identifying columns (suite | instance | method | [config]) replaced by
+// `label_header` and labels[i] for groups[i] (e.g. an experiment's row, column and the settings
+// that tell its groups apart).
+std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<std::string>& label_header,
+                        const std::vector<std::vector<std::string>>& labels);
+
 // RFC 4180 CSV (CRLF line ends, fields with a comma, quote or line break quoted, quotes doubled)
 // with a header row: suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,
 // node_caps,not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,
@@ -45,5 +51,9 @@ std::string to_markdown(std::span<const GroupSummary> groups, std::span<const Gr
 
 // to_csv with the columns block,row,column of places[i] in front of each group's line.
 std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPlace> places);
+// The same with the columns extra_header after each line, extra[i] the fields of groups[i]
+// (quoted here as needed).
+std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPlace> places,
+                   const std::vector<std::string>& extra_header, const std::vector<std::vector<std::string>>& extra);
 
 }  // namespace hyfal

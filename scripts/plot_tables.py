@@ -15,6 +15,8 @@ row,trial_index,x,y) and writes <figure>.png and <figure>.svg into DIR (default 
   plaku-table1.csv                       seed 002 Table 1 as a figure: time against |Q|, per driver
   plaku-table2.csv                       seed 002 Table 2 as a figure: time against N aircraft
   ompl-navigation.csv                    HyDICE vs OMPL's planners: time against |Q| (as plaku-table1)
+  <experiment>.csv                       an experiment's table (`hyfal run FILE.toml`): its measure
+                                         per column, one line per row, the baseline row thicker
 
 Only the figures whose CSVs exist are made (with --only ID: only table ID's); other files are
 ignored. The output is byte-for-byte
@@ -302,22 +304,41 @@ def plot_esposito_series(path, out_dir, suite, suffix):
 # ---------------------------------------------------------------------------------------------
 # Seed 002 (Plaku et al.): Tables 1 and 2 as figures
 
-SWEEP_COLUMNS = ("block", "row", "column", "paper", "ours_mean", "n", "timeouts")
+SWEEP_COLUMNS = ("block", "row", "column", "paper", "ours_mean", "ours_median", "n", "timeouts",
+                 "statistic")
+# The statistics a sweep table's cells may show (its CSV's "statistic" column) and the CSV
+# column that holds each.
+SWEEP_STATISTICS = {"mean": "ours_mean", "median": "ours_median"}
 
 
 def read_sweep_table(path):
-    """A seed 002 sweep table: {block: {row: [cell dict, ...]}} in file order."""
+    """A seed 002 sweep table: ({block: {row: [cell dict, ...]}} in file order, statistic).
+
+    A cell's "ours" is the statistic the table shows (its CSV's "statistic" column: "mean" or
+    "median"), so that the figure plots what the table says; "censored" when some of its trials
+    were stopped (the table's "≥": the value is a lower bound)."""
     blocks = OrderedDict()
+    statistics = set()
     for i, r in enumerate(read_csv_rows(path, SWEEP_COLUMNS), start=2):
+        statistic = r["statistic"].strip()
+        if statistic not in SWEEP_STATISTICS:
+            raise InputError(f"{path}:{i}: statistic: {statistic!r} is not one of "
+                             f"{', '.join(SWEEP_STATISTICS)}")
+        statistics.add(statistic)
+        value = r[SWEEP_STATISTICS[statistic]].strip()
+        timeouts = int(parse_float(path, i, r["timeouts"] or "0"))
         cell = {
             "column": r["column"],
             "paper": r["paper"].strip(),
-            "ours": parse_float(path, i, r["ours_mean"]) if r["ours_mean"].strip() else None,
+            "ours": parse_float(path, i, value) if value else None,
             "n": int(parse_float(path, i, r["n"] or "0")),
-            "timeouts": int(parse_float(path, i, r["timeouts"] or "0")),
+            "timeouts": timeouts,
+            "censored": timeouts > 0,
         }
         blocks.setdefault(r["block"], OrderedDict()).setdefault(r["row"], []).append(cell)
-    return blocks
+    if len(statistics) > 1:
+        raise InputError(f"{path}: statistic: one table shows one statistic, found {', '.join(sorted(statistics))}")
+    return blocks, (statistics.pop() if statistics else "mean")
 
 
 def terrains_of_column(label):
@@ -344,25 +365,51 @@ def paper_value(text):
         return None
 
 
-def draw_method_lines(ax, rows, x_of_column, colours):
-    """One solid line per method (ours, mean time) and the paper's values dashed in its colour.
+def our_points(cells, x_of_column):
+    """Ours as the figure draws them: (x, value, kind) per cell with a value, kind "exact",
+    "lower" (some trials stopped: the table's "≥") or "stopped" (every trial stopped: X)."""
+    points = []
+    for c in cells:
+        x = x_of_column(c["column"])
+        if x is None or c["ours"] is None:
+            continue
+        kind = "stopped" if c["n"] and c["timeouts"] >= c["n"] else "lower" if c["censored"] else "exact"
+        points.append((x, c["ours"], kind))
+    return points
 
-    A cell whose every trial timed out is drawn as an 'x' at the time it ran (the limit): its mean
-    is a lower bound, not a time. The paper's X cells are 'x' markers at its 3600 s limit."""
+
+def mark_lower_bounds(ax, points, colour):
+    """An arrow up from each lower bound: the true value is higher than the point."""
+    for x, y in points:
+        ax.annotate("", xy=(x, y), xytext=(0, 16), textcoords="offset points",
+                    arrowprops={"arrowstyle": "<|-", "color": colour, "linewidth": 1.0,
+                                "shrinkA": 0, "shrinkB": 3})
+
+
+def draw_method_lines(ax, rows, x_of_column, colours):
+    """One solid line per method (ours, the table's statistic) and the paper's values dashed in
+    its colour.
+
+    Exact cells are filled circles. A lower bound (the table's "≥": some trials were stopped and
+    count with the time they had) is an open circle with an arrow up; a cell whose every trial was
+    stopped is an 'x' at the time it ran (the limit) with an arrow up. The paper's X cells are 'x'
+    markers at its 3600 s limit."""
     for row, cells in rows.items():
         colour = colours.setdefault(row, row_colour(len(colours)))
-        ours = [(x_of_column(c["column"]), c) for c in cells]
-        ours = [(x, c) for x, c in ours if x is not None and c["ours"] is not None]
-        solved = [(x, c["ours"]) for x, c in ours if c["timeouts"] < c["n"]]
-        timed_out = [(x, c["ours"]) for x, c in ours if c["n"] and c["timeouts"] >= c["n"]]
-        line = [(x, c["ours"]) for x, c in ours]
-        if line:
-            ax.plot(*zip(*line), color=colour, linewidth=1.5, label=f"{row} (ours)")
-        if solved:
-            ax.plot(*zip(*solved), color=colour, linestyle="none", marker="o", markersize=4)
-        if timed_out:
-            ax.plot(*zip(*timed_out), color=colour, linestyle="none", marker="x", markersize=8,
+        ours = our_points(cells, x_of_column)
+        of_kind = lambda kind: [(x, y) for x, y, k in ours if k == kind]
+        if ours:
+            ax.plot([x for x, _, _ in ours], [y for _, y, _ in ours], color=colour, linewidth=1.5,
+                    label=f"{row} (ours)")
+        if of_kind("exact"):
+            ax.plot(*zip(*of_kind("exact")), color=colour, linestyle="none", marker="o", markersize=4)
+        if of_kind("lower"):
+            ax.plot(*zip(*of_kind("lower")), color=colour, linestyle="none", marker="o", markersize=6,
+                    markerfacecolor="white", markeredgewidth=1.5)
+        if of_kind("stopped"):
+            ax.plot(*zip(*of_kind("stopped")), color=colour, linestyle="none", marker="x", markersize=8,
                     markeredgewidth=2)
+        mark_lower_bounds(ax, of_kind("lower") + of_kind("stopped"), colour)
         paper = [(x_of_column(c["column"]), paper_value(c["paper"])) for c in cells]
         paper = [(x, p) for x, p in paper if x is not None and p is not None]
         if paper:
@@ -388,8 +435,14 @@ def label_columns(ax, rows, x_of_column):
 
 
 def add_timeout_note(ax):
+    ax.plot([], [], color="grey", linestyle="none", marker="o", markersize=6, markerfacecolor="white",
+            markeredgewidth=1.5, label="≥ lower bound (some trials stopped; arrow: true value higher)")
     ax.plot([], [], color="grey", linestyle="none", marker="x", markersize=8, markeredgewidth=2,
-            label="every trial timed out (at the limit)")
+            label="every trial timed out (at the limit; a lower bound)")
+
+
+def time_label(statistic):
+    return f"{statistic} time to falsify (s)"
 
 
 def plot_plaku_table1(path, out_dir, name="plaku-table1",
@@ -397,7 +450,7 @@ def plot_plaku_table1(path, out_dir, name="plaku-table1",
                             "solid: ours, dashed: paper (limit 3600 s, ours: table's limit)"):
     """Seed 002 Table 1 as a figure: time against |Q| (log-log), one panel per driver (and any
     navigation sweep laid out like it, e.g. ompl-navigation)."""
-    blocks = read_sweep_table(path)
+    blocks, statistic = read_sweep_table(path)
     if not blocks:
         return []  # a table without cells: nothing to draw
     fig, axes = plt.subplots(1, len(blocks), figsize=(max(9, 5 * len(blocks)), 4.8), sharey=True,
@@ -410,7 +463,7 @@ def plot_plaku_table1(path, out_dir, name="plaku-table1",
         label_columns(ax, rows, terrains_of_column)
         ax.set_title(block or "all")
         ax.set_xlabel("|Q| (terrains in the maze, n² for an n x n grid)")
-    axes[0][0].set_ylabel("mean time to falsify (s)")
+    axes[0][0].set_ylabel(time_label(statistic))
     add_timeout_note(axes[0][-1])
     handles, labels = axes[0][-1].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=min(5, len(labels)), fontsize=8,
@@ -422,7 +475,7 @@ def plot_plaku_table1(path, out_dir, name="plaku-table1",
 
 def plot_plaku_table2(path, out_dir):
     """Seed 002 Table 2 as a figure: aircraft conflict resolution, time against N."""
-    blocks = read_sweep_table(path)
+    blocks, statistic = read_sweep_table(path)
     if not blocks:
         return []
     fig, ax = plt.subplots(figsize=(7, 4.8))
@@ -434,12 +487,96 @@ def plot_plaku_table2(path, out_dir):
     for rows in blocks.values():
         label_columns(ax, rows, aircraft_of_column)
     ax.set_xlabel("N (aircraft; 5*: hand-made crossing, original protocol)")
-    ax.set_ylabel("mean time to falsify (s)")
+    ax.set_ylabel(time_label(statistic))
     ax.set_title("Aircraft: time against N (seed 002 Table 2)\n"
                  "solid: ours, dashed: paper (limit 3600 s)")
     ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
     return save_figure(fig, out_dir, "plaku-table2")
+
+
+# ---------------------------------------------------------------------------------------------
+# Experiments (`hyfal run FILE.toml`): the table's measure per column, one line per row
+
+EXPERIMENT_COLUMNS = ("block", "row", "column", "n", "timeouts", "node_caps", "value", "baseline")
+EXPERIMENT_MEASURES = {  # the table's `value` -> (CSV column, axis label, a lower bound when stopped)
+    "falsified_rate": ("falsified_rate", "falsified rate", False),
+    "time_mean_s": ("time_mean_s", "mean time (s)", True),
+    "time_median_s": ("time_median_s", "median time (s)", True),
+    "nodes_mean": ("nodes_mean", "mean nodes", True),
+    "nodes_median": ("nodes_median", "median nodes", True),
+}
+
+
+def is_experiment_csv(path):
+    """Whether path is an experiment table's CSV (its header starts block,row,column,suite)."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            header = next(csv.reader(f), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    return header[:4] == ["block", "row", "column", "suite"] and "value" in header
+
+
+def read_experiment_table(path):
+    """({block: {row: [cell dict, ...]}}, measure, baseline row) of an experiment's CSV; a cell's
+    "ours" is the table's measure (its `value` column), "censored" when the measure is a time or
+    node count and some trials were stopped (the table's "≥")."""
+    blocks, measures, baseline = OrderedDict(), set(), None
+    for i, r in enumerate(read_csv_rows(path, EXPERIMENT_COLUMNS), start=2):
+        measure = r["value"].strip()
+        if measure not in EXPERIMENT_MEASURES:
+            raise InputError(f"{path}:{i}: value: {measure!r} is not one of {', '.join(EXPERIMENT_MEASURES)}")
+        measures.add(measure)
+        column, _, bounded = EXPERIMENT_MEASURES[measure]
+        if column not in r:
+            raise InputError(f"{path}: missing column {column}")
+        value = r[column].strip()
+        n = int(parse_float(path, i, r["n"] or "0"))
+        stopped = int(parse_float(path, i, r["timeouts"] or "0")) + int(parse_float(path, i, r["node_caps"] or "0"))
+        baseline = baseline or (r["baseline"].strip() or None)
+        cell = {"column": r["column"], "ours": parse_float(path, i, value) if value else None, "n": n,
+                "timeouts": stopped if bounded else 0, "censored": bounded and stopped > 0, "paper": ""}
+        blocks.setdefault(r["block"], OrderedDict()).setdefault(r["row"], []).append(cell)
+    if len(measures) > 1:
+        raise InputError(f"{path}: value: one table shows one measure, found {', '.join(sorted(measures))}")
+    return blocks, (measures.pop() if measures else "time_median_s"), baseline
+
+
+def plot_experiment(path, out_dir):
+    """An experiment's figure: per block a panel, the table's measure against its columns, one
+    line per row (the baseline row thicker); lower bounds as in the sweep figures."""
+    blocks, measure, baseline = read_experiment_table(path)
+    if not blocks:
+        return []
+    name = os.path.splitext(os.path.basename(path))[0]
+    fig, axes = plt.subplots(1, len(blocks), figsize=(max(7, 5 * len(blocks)), 4.8), sharey=True, squeeze=False)
+    colours = {}
+    values = []
+    for ax, (block, rows) in zip(axes[0], blocks.items()):
+        columns = list(OrderedDict((c["column"], None) for cells in rows.values() for c in cells))
+        x_of_column = lambda label, columns=columns: columns.index(label) if label in columns else None
+        draw_method_lines(ax, rows, x_of_column, colours)
+        for line in ax.get_lines():  # no paper here: a row is just its label
+            if line.get_label() == f"{baseline} (ours)":
+                line.set_linewidth(3.0)
+                line.set_label(f"{baseline} (baseline)")
+            elif line.get_label().endswith(" (ours)"):
+                line.set_label(line.get_label()[:-len(" (ours)")])
+        ax.set_xlim(-0.5, len(columns) - 0.5)
+        values += [c["ours"] for cells in rows.values() for c in cells if c["ours"] is not None]
+        ax.set_xticks(range(len(columns)), columns, rotation=20 if len(columns) > 4 else 0, fontsize=8)
+        ax.set_title(block or name)
+    if values and min(values) > 0 and max(values) / min(values) >= 100:
+        for ax in axes[0]:
+            ax.set_yscale("log")
+    axes[0][0].set_ylabel(EXPERIMENT_MEASURES[measure][1])
+    if EXPERIMENT_MEASURES[measure][2]:
+        add_timeout_note(axes[0][-1])
+    axes[0][-1].legend(loc="best", fontsize=8)
+    fig.suptitle(f"{name}: {EXPERIMENT_MEASURES[measure][1]} (the table's cells)")
+    fig.tight_layout()
+    return save_figure(fig, out_dir, name)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -470,6 +607,8 @@ def figure_jobs(tables_dir, only=None):
         elif (m := esposito.fullmatch(name)):
             suite, suffix = m.group(1), m.group(2)
             jobs.append((path, lambda p, o, s=suite, x=suffix: plot_esposito_series(p, o, s, x)))
+        elif name.endswith(".csv") and is_experiment_csv(path):
+            jobs.append((path, plot_experiment))
     return jobs
 
 

@@ -3,6 +3,7 @@
 // exit 2, one line naming the file, the line and the key, and nothing written.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -276,6 +277,26 @@ TEST_F(ExperimentCliTest, ExampleExperimentRunsStoresAndResumes) {
   EXPECT_EQ(md, r.out);
   EXPECT_EQ(lines(csv).size(), 1u + 6u) << csv;  // header + one line per group
   EXPECT_EQ(csv.rfind("block,row,column,suite,", 0), 0u) << csv;
+  // Verdicts of each row against the baseline (the first row, rrt) per column, on time, nodes and
+  // the falsified rate.
+  EXPECT_TRUE(contains(md, "## Verdicts against rrt\n\n| row | column | time | nodes | falsified rate |\n")) << md;
+  EXPECT_TRUE(contains(md, "| history | thermostat, step=0.1 | ")) << md;
+  EXPECT_TRUE(contains(md, "Fisher's exact test")) << md;
+  // The Groups table names each group by its place and the settings that tell it apart, not by
+  // its config with every default spelled out.
+  const std::string groups = md.substr(md.find("## Groups"));
+  EXPECT_TRUE(contains(groups, "| row | column | settings | n | falsified |")) << groups;
+  EXPECT_TRUE(contains(groups, "| history | thermostat, step=0.1 | step=0.1, history=tree | 3 |")) << groups;
+  EXPECT_TRUE(contains(groups, "| rrt | linear, step=default | – | 3 |")) << groups;
+  EXPECT_FALSE(contains(groups, "{\"")) << groups;
+  const std::string csv_header = csv.substr(0, csv.find("\r\n"));
+  EXPECT_TRUE(contains(csv_header, ",value,baseline,time_verdict,time_p,nodes_verdict,nodes_p,falsified_verdict,falsified_p"))
+      << csv_header;
+  // The experiment's figure, as `reproduce` draws a table's (where matplotlib is installed).
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") == 0) {
+    EXPECT_TRUE(fs::exists(work() / "out" / "example.png")) << r;
+    EXPECT_TRUE(fs::exists(work() / "out" / "example.svg")) << r;
+  }
   const SqlResult count = sql(work() / "db.sqlite", "SELECT experiment, count(*) FROM trials GROUP BY 1");
   ASSERT_TRUE(count.ok) << count.text;
   EXPECT_EQ(count.text, "example|18\n");
@@ -338,7 +359,9 @@ INSTANTIATE_TEST_SUITE_P(
                                   "suites[0].settings.step[1]"},
                       BadFileCase{"UnknownDimension", "columns = [\"step\"]", "columns = [\"stp\"]", "15:",
                                   "table.columns[0]"},
-                      BadFileCase{"BadExperimentName", "name = \"mine\"", "name = \"../mine\"", "1:", "name"}),
+                      BadFileCase{"BadExperimentName", "name = \"mine\"", "name = \"../mine\"", "1:", "name"},
+                      BadFileCase{"BaselineNamesNoRow", "columns = [\"step\"]",
+                                  "columns = [\"step\"]\nbaseline = \"rrt-star\"", "16:", "table.baseline"}),
     [](const ::testing::TestParamInfo<BadFileCase>& info) { return info.param.name; });
 
 TEST_F(ExperimentCliTest, AFileAndRunFlagsTogetherExitTwo) {

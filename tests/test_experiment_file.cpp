@@ -374,11 +374,44 @@ value = "falsified_rate"
   EXPECT_EQ(e.groups[0].place.row, "rrt, input_levels=3, k=default");
 }
 
+// The verdicts' baseline row: the first row unless `[table] baseline` names one; a name that is no
+// row is refused with one line naming the key.
+TEST(ExperimentFiles, BaselineIsTheFirstRowOrTheNamedOne) {
+  const std::string file = R"(name = "b"
+trials = 2
+timeout_s = 5
+max_nodes = 1000
+[[suites]]
+name = "thermostat"
+[[methods]]
+name = "rrt"
+[[methods]]
+name = "enhanced-rrt"
+label = "enh"
+options = { k = [5, 10] }
+[table]
+columns = ["suite"]
+)";
+  EXPECT_EQ(load_experiment_file(file, "b.toml").baseline, "rrt, k=default");
+  const ExperimentFile named = load_experiment_file(file + "baseline = \"enh, k=10\"\n", "b.toml");
+  EXPECT_EQ(named.baseline, "enh, k=10");
+  try {
+    (void)load_experiment_file(file + "baseline = \"enh\"\n", "b.toml");
+    FAIL() << "a baseline naming no row was accepted";
+  } catch (const ExperimentFileError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "b.toml:15:12: table.baseline: 'enh' names no row of the table (rows: 'rrt, k=default', 'enh, k=5', "
+              "'enh, k=10')");
+  }
+  EXPECT_THROW((void)load_experiment_file(file + "baseline = 3\n", "b.toml"), ExperimentFileError);
+}
+
 TEST(ExperimentFiles, TheCommittedExampleReads) {
   const fs::path file = fs::path(HYFAL_SOURCE_DIR) / "experiments" / "example.toml";
   const ExperimentFile e = load_experiment_file(read_text(file), file.string());
   EXPECT_EQ(e.name, "example");
   EXPECT_EQ(e.groups.size(), 6u);
+  EXPECT_EQ(e.baseline, "rrt");
 }
 
 }  // namespace

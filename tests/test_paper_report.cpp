@@ -384,7 +384,7 @@ TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
   EXPECT_EQ(csv.substr(0, csv.find("\r\n")),
             "table,profile,block,row,method,column,paper,ours_mean,ours_median,n,falsified,falsified_rate,timeouts,"
             "errors,time_std_s,time_ci_low_s,time_ci_high_s,nodes_mean,nodes_median,nodes_std,nodes_ci_low,"
-            "nodes_ci_high,paper_previous,verdict,p_value,skipped");
+            "nodes_ci_high,paper_previous,verdict,p_value,skipped,statistic");
   // HyDICE 2² comes after RRT in the paper's order: its line carries that pair's verdict.
   EXPECT_NE(csv.find(",RandomDriver,HyDICE,hydice,2²,0.4,1,1,2,2,1,0,0,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",RRT,within noise,"), std::string::npos) << csv;
@@ -396,6 +396,42 @@ TEST(SweepReport, CellMeansTimeoutsAndOrderingPerColumn) {
   EXPECT_NE(unchecked.find("- 2²: paper – — ours – — not checked (fewer than two rows have a paper value)\n"),
             std::string::npos)
       << unchecked;
+}
+
+// A table of our own (ompl-navigation: no paper numbers) prints no paper table of N/A, no
+// "paper / ours" comparisons and no orderings of the paper's (there is none to test).
+TEST(SweepReport, WithoutPaperNumbersThePapersSideIsLeftOut) {
+  PaperTable t;
+  t.id = "ours-only";
+  t.rows = {{"RRT", "rrt", {}, {}}, {"HyDICE", "hydice", {}, {}}};
+  TableSweep sw;
+  sw.columns = {{"2²", {{"n", "2"}}}, {"4²", {{"n", "4"}}}};
+  sw.paper = {{{kNotReported, kNotReported}, {kNotReported, kNotReported}}};
+  sw.paper_timeout_s = 150;
+  t.sweep = sw;
+  using Cells = std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>;
+  Cells trials(1, std::vector<std::vector<std::vector<TrialRecord>>>(2, std::vector<std::vector<TrialRecord>>(2)));
+  trials[0][0][0] = {trial(10, 1.0), trial(10, 3.0)};
+  trials[0][1][0] = {trial(10, 0.5), trial(10, 1.5)};
+  trials[0][0][1] = {trial(10, 20.0, TrialStatus::timeout), trial(10, 20.0, TrialStatus::timeout)};
+  trials[0][1][1] = {trial(10, 0.2), trial(10, 0.4)};
+  ReportHeader h;
+  h.profile = "quick";
+  const std::string md = to_markdown(make_sweep_report(t, trials, 2), h);
+  EXPECT_NE(md.find("\nours\n\n| method | 2² | 4² |\n"), std::string::npos) << md;
+  EXPECT_EQ(md.find("\npaper\n"), std::string::npos) << md;
+  EXPECT_EQ(md.find("N/A"), std::string::npos) << md;
+  EXPECT_EQ(md.find("Paper: X"), std::string::npos) << md;
+  EXPECT_NE(md.find("\nfastest per column (ours): 2² HyDICE; 4² HyDICE.\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("\nfirst column where every trial timed out (ours X): RRT 4²; HyDICE none; (ours only up to 4²).\n"),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("paper / ours"), std::string::npos) << md;
+  EXPECT_EQ(md.find("ordering per column"), std::string::npos) << md;
+  EXPECT_EQ(md.find("Summary over"), std::string::npos) << md;
+  EXPECT_NE(md.find("statistics per cell"), std::string::npos) << md;
+  // The CSV keeps its columns (paper empty): a reader of it finds the same fields in every table.
+  EXPECT_NE(to_csv(make_sweep_report(t, trials, 2), h).find(",RRT,rrt,2²,,2,2,"), std::string::npos);
 }
 
 TEST(SweepReport, TenTrialsPerCellGiveSignificantVerdicts) {

@@ -95,6 +95,40 @@ TEST_F(PlotTest, TablesFolderGivesEveryFigureOfItsCsvs) {
   EXPECT_TRUE(figures_ok(work() / "tables", {"kim-fig5-coverage", "plaku-table2"}));
 }
 
+// A sweep figure plots the statistic its table shows (the CSV's statistic column): a CSV that
+// does not say which is refused rather than drawn with a guess.
+TEST_F(PlotTest, ASweepCsvThatDoesNotNameItsStatisticIsRefused) {
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  const fs::path tables = fixture_tables();
+  std::string csv = read_text(tables / "plaku-table2.csv");
+  for (std::size_t at = csv.find(",statistic\r\n"); at != std::string::npos; at = csv.find(",statistic\r\n"))
+    csv.erase(at, std::string(",statistic").size());
+  for (const char* value : {",median\r\n", ",mean\r\n"})
+    for (std::size_t at = csv.find(value); at != std::string::npos; at = csv.find(value))
+      csv.replace(at, std::string(value).size(), "\r\n");
+  write_text(tables / "plaku-table2.csv", csv);
+  const Result r = hyfal({"plot", "tables", "--out", "figures"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_TRUE(contains(r.err, "plaku-table2.csv: missing column(s) statistic")) << r;
+}
+
+// An experiment's CSV (`hyfal run FILE.toml`) gives its figure too.
+TEST_F(PlotTest, AnExperimentCsvGivesItsFigure) {
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  write_text(work() / "exp" / "mine.csv",
+             "block,row,column,suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
+             "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,nodes_mean,"
+             "nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,value,baseline,time_verdict,time_p,nodes_verdict,"
+             "nodes_p,falsified_verdict,falsified_p\r\n"
+             ",rrt,a,s,{},rrt,{},3,3,3,1,0,0,0,0,1,1,,,,100,100,,,,time_median_s,,,,,,,\r\n"
+             ",enh,a,s,{},enhanced-rrt,{},3,2,2,0.67,1,0,0,0,2,2,,,,200,200,,,,time_median_s,rrt,within noise,0.4,"
+             "within noise,0.4,within noise,1\r\n");
+  const Result r = hyfal({"plot", "exp"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(figures_ok(work() / "exp", {"mine"}));
+}
+
 TEST_F(PlotTest, WitnessPicturesOfNavigationAircraftAndAnyOtherSuite) {
   if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
   const fs::path maze = witness_of({"--suite", "navigation", "--method", "hydice", "--set", "n=4"}, "nav");

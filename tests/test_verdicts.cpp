@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "results/experiment_report.hpp"
 #include "results/paper_report.hpp"
 #include "results/statistics.hpp"
 
@@ -341,6 +342,77 @@ TEST(CheckOrdering, MissingValuesAreNotChecked) {
   ASSERT_EQ(skipped.pairs.size(), 1u);
   EXPECT_EQ(skipped.pairs[0].second, 2u);
   EXPECT_EQ(skipped.verdict, OrderingVerdict::holds);
+}
+
+// --- experiments: each row against the baseline row ------------------------------------------
+
+TrialRecord trial_of(TrialStatus status, double wall_s, std::int64_t nodes) {
+  TrialRecord t;
+  t.status = status;
+  t.wall_s = wall_s;
+  t.nodes = nodes;
+  return t;
+}
+
+// On 0/1 samples compare_samples is Fisher's exact test: the hypergeometric probabilities of the
+// tables at least as far from the expected count, counted by hand.
+TEST(FalsifiedRate, IsFishersExactTest) {
+  const auto trials = [](int falsified, int stopped) {
+    std::vector<TrialRecord> v;
+    for (int k = 0; k < falsified; ++k) v.push_back(trial_of(TrialStatus::falsified, 1.0, 10));
+    for (int k = 0; k < stopped; ++k) v.push_back(trial_of(TrialStatus::timeout, 5.0, 10));
+    return v;
+  };
+  // 5 of 5 against 0 of 5: K = 5 of the 5 ones in the first 5 of 10; P(K = 5) = P(K = 0) = 1 / C(10, 5).
+  const SampleComparison all = compare_samples(falsified_indicators(trials(5, 0)), falsified_indicators(trials(0, 5)));
+  EXPECT_TRUE(all.test.p_exact);
+  EXPECT_NEAR(all.test.p_value, 2.0 / 252.0, 1e-12);
+  EXPECT_EQ(all.order, SampleOrder::y_smaller);  // the first rate is higher
+  // 4 of 5 against 1 of 5: |K - 2.5| >= 1.5 for K = 0, 1, 4, 5: (1 + 25 + 25 + 1) / 252.
+  const SampleComparison some = compare_samples(falsified_indicators(trials(4, 1)), falsified_indicators(trials(1, 4)));
+  EXPECT_NEAR(some.test.p_value, 52.0 / 252.0, 1e-12);
+  EXPECT_EQ(some.order, SampleOrder::within_noise);
+  // Errors count as not falsified, as in the rate.
+  EXPECT_EQ(falsified_indicators(std::vector<TrialRecord>{trial_of(TrialStatus::error, 0, 0)}),
+            (std::vector<CensoredValue>{{0.0, false}}));
+}
+
+TEST(ExperimentVerdicts, EachRowAgainstTheBaselineInItsColumn) {
+  std::vector<TrialRecord> fast, slow, stopped;
+  for (int k = 0; k < 10; ++k) {
+    fast.push_back(trial_of(TrialStatus::falsified, 0.1 * (k + 1), 100 + k));
+    slow.push_back(trial_of(TrialStatus::falsified, 5.0 + k, 5000 + k));
+    stopped.push_back(trial_of(TrialStatus::timeout, 2.0, 3000));  // every trial at the 2 s cap
+  }
+  const std::vector<std::vector<TrialRecord>> trials{slow, fast, stopped, fast, {fast[0]}};
+  const std::vector<GroupPlace> places{{"", "base", "c1"}, {"", "new", "c1"}, {"", "capped", "c1"},
+                                       {"", "new", "c2"},  // no baseline group in c2: left out
+                                       {"", "base", "c3"}};
+  const ExperimentVerdicts v = compare_with_baseline(trials, places, "base");
+  ASSERT_EQ(v.comparisons.size(), 2u);
+  EXPECT_EQ(v.comparisons[0].group, 1u);
+  EXPECT_EQ(v.comparisons[0].baseline, 0u);
+  EXPECT_EQ(v.comparisons[0].time.order, SampleOrder::x_smaller);
+  EXPECT_EQ(v.comparisons[0].nodes.order, SampleOrder::x_smaller);
+  EXPECT_EQ(v.comparisons[0].falsified.order, SampleOrder::within_noise);
+  // Stopped at 2 s, below every baseline time (5 s and more): censored, so no faster nor slower
+  // can be told from times, but fewer nodes than the baseline's cannot either (3000 censored < 5000).
+  EXPECT_EQ(v.comparisons[1].time.order, SampleOrder::within_noise);
+  EXPECT_EQ(v.comparisons[1].falsified.order, SampleOrder::x_smaller);  // 0 of 10 against 10 of 10: lower
+  EXPECT_EQ(verdict_text(ComparedMeasure::time, v.comparisons[0].time), "faster (p < 0.001)");
+  EXPECT_EQ(verdict_text(ComparedMeasure::falsified, v.comparisons[1].falsified), "lower (p < 0.001)");
+  EXPECT_EQ(verdict_word(ComparedMeasure::nodes, SampleOrder::y_smaller), "more");
+  const std::string md = to_markdown(v, places);
+  EXPECT_NE(md.find("## Verdicts against base\n\n| row | column | time | nodes | falsified rate |\n"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| new | c1 | faster (p < 0.001) | fewer (p < 0.001) | within noise (p = 1.0) |\n"),
+            std::string::npos)
+      << md;
+  const auto fields = verdict_csv_fields(v, places.size());
+  EXPECT_EQ(fields[0], std::vector<std::string>(7));  // the baseline's own group
+  EXPECT_EQ(fields[1][0], "base");
+  EXPECT_EQ(fields[1][1], "faster");
+  EXPECT_EQ(fields[3], std::vector<std::string>(7));  // no baseline in its column
 }
 
 }  // namespace
