@@ -65,15 +65,27 @@
 // The growth is scaled by n_g so that ḡ does not depend on the grid size: n_g·g is the coverage
 // gained per node in grid points' worth; a node in untouched space gains about π/3 ≈ 1 (in 2-D
 // and 3-D alike), a node refining an already dense region almost 0. A tree whose last `window`
-// extension attempts all failed (no input made progress) is terminated as stalled (D did not
-// change over those attempts: g = 0; without this rule such a tree would never reach the window).
+// extension attempts all failed (no input made progress) is stalled (below).
+//
+// Stalls (issue 27). A stall is not one of Alg. 3's termination criteria: g(T) is the coverage
+// gained per NODE, and a tree that adds no node says nothing about it (a tree of 12 nodes whose
+// nearest node to most samples is a dead end stalls, though its reachable set is barely
+// explored; rrt, with the same extension step, goes on and falsifies). So a stalled tree is not
+// concluded: it gives up its slot and is parked with its nodes, its stream and its series. A
+// free slot goes first to a new seed while Alg. 3 plants one (µ(P̄) > µ̄, fewer than max_seeds),
+// else to the parked tree that has waited longest, which resumes where it stopped (failed
+// streak reset) and may stall and be parked again. A tree is concluded only by g(T) or c(T), so
+// the search ends not_found only by the paper's own criterion: no tree active and none parked,
+// i.e. every seed's tree stopped growing or is fully grown, and P̄ is dispersed (µ(P̄) <= µ̄) or
+// max_seeds are planted. Otherwise it runs until falsified or the budget (timeout, node_cap);
+// with a 0-dimensional P the one tree resumes at once, so a stall never ends the search.
 //
 // Planting. After the terminations of a round, while fewer than n_t trees are active, fewer than
 // max_seeds were planted, the node cap is not reached and µ(P̄) > µ̄, the next Halton point is
 // appended to P̄ and a tree is planted there (Alg. 3: one new tree per terminated one). µ(P̄) is the
 // dispersion of eq. (2) over P in normalized coordinates divided by µ_max = the diameter of the
 // normalized box (so µ in [0, 1]; exact for a 1-D P). The search ends falsified, not_found (no
-// tree active), timeout or node_cap (over the total nodes of the forest).
+// tree active or parked), timeout or node_cap (over the total nodes of the forest).
 //
 // Defaults (for the papers' examples: P of 1-3 dimensions, grids of 10^3-10^6 points):
 //   n_t = 4      maximum active trees: the paper plants 3 initial seeds for 5 aircraft, and
@@ -90,12 +102,14 @@
 //                seed: 15 seeds for a 1-D P (the paper found its counterexamples at 5 and 8).
 //   max_seeds = 64 a hard cap on the trees of one trial, whatever the dimension of P.
 // Recorded: metrics seeds_planted (= trees), nodes_per_tree, winning_seed (-1: none),
-// winning_parameter, dispersion_final, terminated_growth / _coverage / _stalled, rounds; series
+// winning_parameter, dispersion_final, terminated_growth / _coverage, terminated_stalled (stalls:
+// times a tree was parked, several per tree possible), rounds; series
 // coverage/tree<i> (D(T), i.e. seed 003's c(T), against the tree's nodes), growth/tree<i>
 // (n_g·g(T) against the tree's nodes), dispersion (µ(P̄) against the forest's total nodes, one
 // point per planting); counters over the whole forest.
 #include "core/planners/rrft/rrft.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <mutex>
@@ -399,17 +413,41 @@ class ForestSearch {
       }
       ++terminated_[static_cast<int>(t->end)];
       record_point(*t, point_of(*t));  // a terminated tree stopped at this round
+      if (t->end == TreeEnd::stalled) {  // not concluded: it keeps its nodes and waits for a slot
+        parked_.push_back(t);
+        continue;
+      }
       if (ctx_.trees) ctx_.trees->add(t->index, t->nodes);  // --save-trees: before its nodes are freed
       release(*t);
     }
     active_.swap(still);
   }
 
-  // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
-  void replant() {
-    while (searched_ && active_.size() < max_active_ && trees_.size() < max_seeds_ && mu_ > o_.mu_min &&
-           total_.nodes < ctx_.limits.max_nodes)
-      plant();
+  // The free slots, in this order: a new seed while P̄ is not dispersed enough (Alg. 3), else
+  // the stalled tree that has waited longest resumes (see "Stalls" in the header).
+  void refill_slots() {
+    while (active_.size() < max_active_) {
+      if (searched_ && trees_.size() < max_seeds_ && mu_ > o_.mu_min && total_.nodes < ctx_.limits.max_nodes) {
+        plant();
+      } else if (!parked_.empty()) {
+        resume(parked_.front());
+        parked_.pop_front();
+      } else {
+        break;
+      }
+    }
+  }
+
+  // A stalled tree grows again from where it stopped, with its own stream, in seed order among
+  // the active trees; its next round is the one after this barrier.
+  void resume(ForestTree* t) {
+    t->end = TreeEnd::active;
+    t->at_barrier.decision = TreeEnd::active;
+    t->failed_streak = 0;
+    t->stopped = false;
+    t->last_round = rounds_;
+    auto at = std::find_if(active_.begin(), active_.end(), [&](const ForestTree* a) { return a->index > t->index; });
+    active_.insert(at, t);
   }
 
   // The barrier of round `rounds_` (every active tree finished it): found? then terminations
@@ -425,7 +463,7 @@ class ForestSearch {
     for (ForestTree* t : active_) found = found || t->at_barrier.found;
     if (!found) {  // terminations, unless a tree found the unsafe set this round
       terminate_ended_trees();
-      replant();
+      refill_slots();
     }
     if (end_checks()) return true;
     plan_next_round();
@@ -536,7 +574,7 @@ class ForestSearch {
     out_.metrics["rounds"] = rounds_;
     if (ctx_.trees)  // --save-trees: the trees not released at a termination (recorded there)
       for (const auto& t : trees_)
-        if (t->end == TreeEnd::active) ctx_.trees->add(t->index, t->nodes);
+        if (t->end == TreeEnd::active || t->end == TreeEnd::stalled) ctx_.trees->add(t->index, t->nodes);
     return std::move(out_);
   }
 
@@ -655,6 +693,7 @@ class ForestSearch {
   std::vector<std::vector<double>> seeds_;  // P̄
   std::vector<std::unique_ptr<ForestTree>> trees_;
   std::vector<ForestTree*> active_;  // in seed order
+  std::deque<ForestTree*> parked_;   // stalled trees waiting for a free slot, the longest waiting first
   NamedSeries dispersion_series_{"dispersion", {}};
   PlannerCounters total_;     // over the forest, as of the last barrier
   std::int64_t rounds_ = 0;   // barriers passed (a tree planted at barrier b grows from round b + 1)
