@@ -175,180 +175,203 @@ struct Slot {
   Mode q = 0;
 };
 
-class EnhancedRrt final : public Planner {
+// One enhanced-RRT trial (Alg. 3): rounds of select (propose) and extend (commit), β updated by
+// the commits, the coverage stop checked before every commit. EnhancedRrt::solve runs one.
+class EnhancedSearch {
  public:
-  EnhancedRrt(EnhancedOptions o, std::size_t batch) : o_(o), batch_(batch < 1 ? 1 : batch) {}
-
-  PlannerOutcome solve(const PlannerContext& ctx) override {
-    const System& sys = ctx.system;
-    const SystemInfo& info = sys.info();
-    const std::size_t n = info.dim(), m = info.input_names.size();
-    const std::span<const double> p = ctx.parameters;
-    PlannerOutcome out;
-    PlannerCounters& c = out.counters;
-    const WeightedEuclidean metric(info.metric_weights);
-    const SearchBudget budget(ctx);
-    Rng rng(ctx.seed);  // batch = 1: the trial's one stream
-
-    check_enhanced_system(sys, o_);
-    const BiasedSampler biased_sampler(info.sampling_box, info.goal_point, o_.sigma_min, o_.sigma_max);
-    AdaptiveBias adaptive(o_.n_s, o_.beta_counts);
-
-    std::vector<std::unique_ptr<Slot>> slots;
+  EnhancedSearch(const EnhancedOptions& o, std::size_t batch, const PlannerContext& ctx)
+      : o_(o),
+        batch_(batch),
+        ctx_(ctx),
+        sys_(ctx.system),
+        info_(sys_.info()),
+        p_(ctx.parameters),
+        metric_(info_.metric_weights),
+        budget_(ctx),
+        rng_(ctx.seed),
+        biased_sampler_((check_enhanced_system(sys_, o), info_.sampling_box), info_.goal_point, o.sigma_min,
+                        o.sigma_max),
+        adaptive_(o.n_s, o.beta_counts) {
     for (std::size_t s = 0; s < batch_; ++s) {
-      slots.push_back(std::make_unique<Slot>(sys, metric, p, o_.k));
-      slots.back()->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
+      slots_.push_back(std::make_unique<Slot>(sys_, metric_, p_, o_.k));
+      slots_.back()->prop->set_interrupt(budget_.interrupt());  // a propagation past the deadline ends as rejected
     }
-    Propagator& prop = *slots.front()->prop;  // the witness is re-simulated with it
+    if (info_.coverage.spacing > 0.0) coverage_.emplace(info_.coverage, info_.dim());
+  }
 
-    std::optional<CoverageGrid> coverage;
-    if (info.coverage.spacing > 0.0) coverage.emplace(info.coverage, n);
-    NamedSeries coverage_series{"coverage", {}}, beta_series{"beta", {}};
+  PlannerOutcome run() {
+    plant_forest();
+    for (std::uint64_t round = 0; !out_.trajectory && !stopped_; ++round) {
+      if (auto why = round_start_stop()) {
+        out_.status = *why;
+        break;
+      }
+      select_round(round, round_beta());
+      extend_round();
+    }
+    return report();
+  }
 
-    // The forest: one tree per initial state.
-    std::vector<std::vector<double>> starts{info.initial_state};
-    for (const auto& x0 : info.other_initial_states) starts.push_back(x0);
-    std::deque<Tree> forest;  // trees never move (their NN index points into their own storage)
-    auto add_node = [&](Tree& t, NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
-                        std::span<const double> u, double duration, int transition) {
-      const NodeId id = t.nodes.add(parent, edge_mode, mode, x, u, duration, transition);
-      t.nn.add(id, x);
-      t.applied.push_back(0);
-      t.excluded.push_back(0);
-      if (o_.history == History::tree) {
-        const auto& w = metric.weights();
-        for (std::size_t i = 0; i < n; ++i) t.projected.push_back(std::sqrt(w[i]) * x[i]);
-      }
-      ++c.nodes;
-      if (coverage) {
-        coverage->add(x);
-        if (c.nodes % o_.series_every == 0) coverage_series.points.emplace_back(c.nodes, coverage->coverage());
-        if (c.nodes == o_.coverage_at) out.metrics["coverage"] = coverage->coverage();
-      }
-      return id;
-    };
-    auto finish_falsified = [&](Tree& t, NodeId leaf) {
-      out.status = TrialStatus::falsified;
-      out.trajectory = trajectory_from_tree(sys, prop, t.nodes, leaf, p);
-    };
+ private:
+  // The forest: one tree per initial state, its root checked against the specification.
+  void plant_forest() {
+    std::vector<std::vector<double>> starts{info_.initial_state};
+    for (const auto& x0 : info_.other_initial_states) starts.push_back(x0);
     for (const auto& x0 : starts) {
-      forest.emplace_back(n, m, metric);
-      add_node(forest.back(), kNoNode, info.initial_mode, info.initial_mode, x0, {}, 0.0, -1);
+      forest_.emplace_back(info_.dim(), info_.input_names.size(), metric_);
+      add_node(forest_.back(), kNoNode, info_.initial_mode, info_.initial_mode, x0, {}, 0.0, -1);
     }
-    for (auto& t : forest)
-      if (!out.trajectory && sys.spec(info.initial_mode, t.nodes.state(0), p) <= 0.0) finish_falsified(t, 0);
+    for (auto& t : forest_)
+      if (!out_.trajectory && sys_.spec(info_.initial_mode, t.nodes.state(0), p_) <= 0.0) finish_falsified(t, 0);
+  }
 
-    // Alg. 3's secondary stop: Δc over the trailing N nodes below Δc_min.
-    auto coverage_stalled = [&] {
-      return coverage && o_.coverage_window > 0 && coverage->nodes() > static_cast<std::size_t>(o_.coverage_window) &&
-             coverage->growth(o_.coverage_window) * o_.coverage_window < o_.delta_c_min;
-    };
-    // Line 1-2 of Alg. 4: x_rand ~ B(x; µ, β) (or uniform) from `g`; in_spec: x_rand in S.
-    auto sample = [&](Rng& g, double beta, Slot& slot) {
-      if (o_.sampling != Sampling::uniform)
-        biased_sampler.sample(g, beta, slot.x_rand);
-      else
-        for (std::size_t i = 0; i < n; ++i) slot.x_rand[i] = slot.uniform[i](g);
-      slot.in_spec = o_.sampling == Sampling::adaptive && sys.spec(info.initial_mode, slot.x_rand, p) <= 0.0;
-    };
-    const std::size_t trees = forest.size();
-    std::int64_t iteration = 0;  // Alg. 3's iteration count (one per slot committed)
+  NodeId add_node(Tree& t, NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
+                  std::span<const double> u, double duration, int transition) {
+    const std::size_t n = info_.dim();
+    const NodeId id = t.nodes.add(parent, edge_mode, mode, x, u, duration, transition);
+    t.nn.add(id, x);
+    t.applied.push_back(0);
+    t.excluded.push_back(0);
+    if (o_.history == History::tree) {
+      const auto& w = metric_.weights();
+      for (std::size_t i = 0; i < n; ++i) t.projected.push_back(std::sqrt(w[i]) * x[i]);
+    }
+    PlannerCounters& c = out_.counters;
+    ++c.nodes;
+    if (coverage_) {
+      coverage_->add(x);
+      if (c.nodes % o_.series_every == 0) coverage_series_.points.emplace_back(c.nodes, coverage_->coverage());
+      if (c.nodes == o_.coverage_at) out_.metrics["coverage"] = coverage_->coverage();
+    }
+    return id;
+  }
 
-    bool stopped = false;  // a stop rule ended the search between two commits
-    for (std::uint64_t round = 0; !out.trajectory && !stopped; ++round) {
-      if (auto why = budget.exhausted(c.nodes)) {
-        out.status = *why;
-        break;
-      }
-      if (coverage_stalled()) {
-        out.status = TrialStatus::not_found;
-        break;
-      }
-      // β as of the round's start: the slots of a round sample with it.
-      const double beta = o_.sampling == Sampling::adaptive ? adaptive.beta()
-                          : o_.sampling == Sampling::heavy  ? 1.0
-                                                            : 0.5;
-      if (batch_ == 1) {
-        Slot& slot = *slots.front();
+  void finish_falsified(Tree& t, NodeId leaf) {
+    out_.status = TrialStatus::falsified;
+    out_.trajectory = trajectory_from_tree(sys_, *slots_.front()->prop, t.nodes, leaf, p_);  // slot 0's propagator
+  }
+
+  // Alg. 3's secondary stop: Δc over the trailing N nodes below Δc_min.
+  bool coverage_stalled() const {
+    return coverage_ && o_.coverage_window > 0 && coverage_->nodes() > static_cast<std::size_t>(o_.coverage_window) &&
+           coverage_->growth(o_.coverage_window) * o_.coverage_window < o_.delta_c_min;
+  }
+
+  // The checks of a round's start: the budget, then the coverage stop.
+  std::optional<TrialStatus> round_start_stop() const {
+    if (auto why = budget_.exhausted(out_.counters.nodes)) return why;
+    if (coverage_stalled()) return TrialStatus::not_found;
+    return std::nullopt;
+  }
+
+  // The checks before every later commit of a round: the node cap (exact), the coverage stop.
+  std::optional<TrialStatus> commit_stop() const {
+    if (out_.counters.nodes >= ctx_.limits.max_nodes) return TrialStatus::node_cap;
+    if (coverage_stalled()) return TrialStatus::not_found;
+    return std::nullopt;
+  }
+
+  // β as of the round's start: the slots of a round sample with it.
+  double round_beta() const {
+    return o_.sampling == Sampling::adaptive ? adaptive_.beta() : o_.sampling == Sampling::heavy ? 1.0 : 0.5;
+  }
+
+  // Line 1-2 of Alg. 4: x_rand ~ B(x; µ, β) (or uniform) from `g`; in_spec: x_rand in S.
+  void sample(Rng& g, double beta, Slot& slot) const {
+    if (o_.sampling != Sampling::uniform)
+      biased_sampler_.sample(g, beta, slot.x_rand);
+    else
+      for (std::size_t i = 0; i < info_.dim(); ++i) slot.x_rand[i] = slot.uniform[i](g);
+    slot.in_spec = o_.sampling == Sampling::adaptive && sys_.spec(info_.initial_mode, slot.x_rand, p_) <= 0.0;
+  }
+
+  // Select: every slot of the round samples x_rand and proposes an extension against the forest
+  // of the round's start (batch = 1: the trial's one stream; else the slot's own), slot s
+  // growing tree (iteration + s) mod (number of trees), the forest's rotation. Every
+  // propagation the round made is counted.
+  void select_round(std::uint64_t round, double beta) {
+    const auto trees = static_cast<std::int64_t>(forest_.size());
+    if (batch_ == 1) {
+      Slot& slot = *slots_.front();
+      slot.counters = {};
+      slot.tree = static_cast<std::size_t>(iteration_ % trees);
+      sample(rng_, beta, slot);
+      propose(forest_[slot.tree], rng_, slot);
+    } else {
+      parallel_slots(batch_, ctx_.cpu, [&](std::size_t s) {
+        Slot& slot = *slots_[s];
         slot.counters = {};
-        slot.tree = static_cast<std::size_t>(iteration % static_cast<std::int64_t>(trees));
-        sample(rng, beta, slot);
-        propose(sys, metric, p, forest[slot.tree], rng, slot);
-      } else {
-        parallel_slots(batch_, ctx.cpu, [&](std::size_t s) {  // against the forest of the round's start
-          Slot& slot = *slots[s];
-          slot.counters = {};
-          // The per-iteration tree rotation, by the slot's global iteration index.
-          slot.tree = static_cast<std::size_t>((iteration + static_cast<std::int64_t>(s)) % static_cast<std::int64_t>(trees));
-          Rng g(slot_seed(ctx.seed, round, s));
-          sample(g, beta, slot);
-          propose(sys, metric, p, forest[slot.tree], g, slot);
-        });
-      }
-      for (const auto& slot : slots) {  // every propagation of the round was made
-        c.propagations += slot->counters.propagations;
-        c.integration_steps += slot->counters.integration_steps;
-      }
-      for (std::size_t s = 0; s < batch_ && !out.trajectory; ++s) {  // commit, in slot order
-        if (s > 0) {  // the checks of the round's start, for every later slot (node cap exact)
-          if (c.nodes >= ctx.limits.max_nodes) {
-            out.status = TrialStatus::node_cap;
-            stopped = true;
-            break;
-          }
-          if (coverage_stalled()) {
-            out.status = TrialStatus::not_found;
-            stopped = true;
-            break;
-          }
-        }
-        ++iteration;
-        Slot& slot = *slots[s];
-        Tree& t = forest[slot.tree];
-        const NodeId leaf = commit(metric, t, slot, adaptive, iteration, beta_series, add_node);
-        if (leaf != kNoNode) finish_falsified(t, leaf);
-      }
+        slot.tree = static_cast<std::size_t>((iteration_ + static_cast<std::int64_t>(s)) % trees);
+        Rng g(slot_seed(ctx_.seed, round, s));
+        sample(g, beta, slot);
+        propose(forest_[slot.tree], g, slot);
+      });
     }
+    for (const auto& slot : slots_) {
+      out_.counters.propagations += slot->counters.propagations;
+      out_.counters.integration_steps += slot->counters.integration_steps;
+    }
+  }
 
-    // Per-trial results.
-    if (coverage) {
-      out.metrics["coverage_final"] = coverage->coverage();
-      coverage_series.points.emplace_back(c.nodes, coverage->coverage());
-      out.series.push_back(std::move(coverage_series));
+  // Extend: the round's slots committed in slot order, each one Alg. 3 iteration; the first
+  // node with s <= 0 ends the search, and so does a stop rule before a later commit.
+  void extend_round() {
+    for (std::size_t s = 0; s < batch_ && !out_.trajectory; ++s) {
+      if (s > 0)
+        if (auto why = commit_stop()) {
+          out_.status = *why;
+          stopped_ = true;
+          return;
+        }
+      ++iteration_;
+      Slot& slot = *slots_[s];
+      Tree& t = forest_[slot.tree];
+      const NodeId leaf = commit(t, slot);
+      if (leaf != kNoNode) finish_falsified(t, leaf);
+    }
+  }
+
+  // Per-trial results.
+  PlannerOutcome report() {
+    PlannerCounters& c = out_.counters;
+    if (coverage_) {
+      out_.metrics["coverage_final"] = coverage_->coverage();
+      coverage_series_.points.emplace_back(c.nodes, coverage_->coverage());
+      out_.series.push_back(std::move(coverage_series_));
     }
     if (o_.sampling == Sampling::adaptive) {
-      out.metrics["beta_final"] = adaptive.beta();
-      out.series.push_back(std::move(beta_series));
+      out_.metrics["beta_final"] = adaptive_.beta();
+      out_.series.push_back(std::move(beta_series_));
     }
     std::uint32_t max_fail = 0;
     std::int64_t excluded = 0;
     std::vector<double> fails;
-    for (const auto& t : forest)
+    for (const auto& t : forest_)
       for (NodeId i = 0; i < t.nodes.size(); ++i) {
         max_fail = std::max(max_fail, t.nodes.failed_extensions(i));
         excluded += t.excluded[i];
         if (o_.record_failed_extensions) fails.push_back(t.nodes.failed_extensions(i));
       }
-    out.metrics["failed_extensions_max"] = max_fail;
-    if (o_.sampling == Sampling::adaptive) out.metrics["excluded_nodes"] = excluded;
-    out.metrics["trees"] = forest.size();
+    out_.metrics["failed_extensions_max"] = max_fail;
+    if (o_.sampling == Sampling::adaptive) out_.metrics["excluded_nodes"] = excluded;
+    out_.metrics["trees"] = forest_.size();
     if (o_.record_failed_extensions) {  // seed 000 Fig. 6: n_j sorted in descending order
       std::sort(fails.begin(), fails.end(), std::greater<>());
       NamedSeries s{"failed_extensions_sorted", {}};
       for (std::size_t i = 0; i < fails.size(); ++i) s.points.emplace_back(static_cast<double>(i), fails[i]);
-      out.series.push_back(std::move(s));
+      out_.series.push_back(std::move(s));
     }
-    if (ctx.trees)  // --save-trees: after the search, a copy of each tree
-      for (std::size_t i = 0; i < forest.size(); ++i) ctx.trees->add(i, forest[i].nodes);
-    return out;
+    if (ctx_.trees)  // --save-trees: after the search, a copy of each tree
+      for (std::size_t i = 0; i < forest_.size(); ++i) ctx_.trees->add(i, forest_[i].nodes);
+    return std::move(out_);
   }
-
- private:
   // Lines 3-4 of Alg. 4 for one slot, reading the tree only (it runs concurrently with the other
   // slots of its round): x_near, then every input of Ū propagated and scored by rho or t2go
   // toward x_rand, the inputs sorted by score (the order lines 5-9 try them in).
-  void propose(const System& sys, const WeightedEuclidean& metric, std::span<const double> p, const Tree& t, Rng& g,
-               Slot& slot) const {
+  void propose(const Tree& t, Rng& g, Slot& slot) const {
+    const System& sys = sys_;
+    const WeightedEuclidean& metric = metric_;
+    const std::span<const double> p = p_;
     const std::size_t n = metric.dim();
     slot.near = select_near(t, metric, slot);
     if (slot.near == kNoNode) return;
@@ -390,13 +413,12 @@ class EnhancedRrt final : public Planner {
   // and leaves Ū: the applied bits are the live ones, so two slots of a round that chose the
   // same x_near do not add the same x_new twice); x_new added; exclusions; the β record.
   // Returns the new node when it reached the unsafe set, else kNoNode.
-  template <class AddNode>
-  NodeId commit(const WeightedEuclidean& metric, Tree& t, Slot& slot, AdaptiveBias& adaptive, std::int64_t iteration,
-                NamedSeries& beta_series, AddNode& add_node) {
+  NodeId commit(Tree& t, Slot& slot) {
+    const WeightedEuclidean& metric = metric_;
     const std::size_t n = metric.dim();
     const NodeId near = slot.near;
     if (near == kNoNode) {
-      if (o_.sampling == Sampling::adaptive) record_beta(adaptive, slot.in_spec, false, iteration, beta_series);
+      if (o_.sampling == Sampling::adaptive) record_beta(slot.in_spec, false);
       return kNoNode;
     }
     t.nodes.count_selection(near);
@@ -414,7 +436,7 @@ class EnhancedRrt final : public Planner {
     if (chosen == nu) {
       if (o_.history == History::none) t.nodes.count_failure(near);  // no input made progress
       if (slot.in_spec) t.excluded[near] = 1;
-      if (o_.sampling == Sampling::adaptive) record_beta(adaptive, slot.in_spec, false, iteration, beta_series);
+      if (o_.sampling == Sampling::adaptive) record_beta(slot.in_spec, false);
       return kNoNode;
     }
     // Without history weighting the tree still adds x_new (Alg. 2), but a repeated input is
@@ -428,13 +450,15 @@ class EnhancedRrt final : public Planner {
     const bool successful = metric.distance(x_new, slot.x_rand) < rho_before;
     if (o_.sampling == Sampling::adaptive) {
       if (slot.in_spec && !successful) t.excluded[near] = 1;
-      record_beta(adaptive, slot.in_spec, successful, iteration, beta_series);
+      record_beta(slot.in_spec, successful);
     }
     return RrtExtension::reached_unsafe(r) ? id : kNoNode;
   }
 
-  void record_beta(AdaptiveBias& adaptive, bool in_spec, bool successful, std::int64_t iteration, NamedSeries& s) {
-    if (adaptive.record(in_spec, successful)) s.points.emplace_back(static_cast<double>(iteration), adaptive.beta());
+  // Update β: one record per commit under adaptive sampling (III.5); β changes every N_s records.
+  void record_beta(bool in_spec, bool successful) {
+    if (adaptive_.record(in_spec, successful))
+      beta_series_.points.emplace_back(static_cast<double>(iteration_), adaptive_.beta());
   }
 
   static bool was_applied(const Tree& t, NodeId node, std::size_t j, std::size_t nu) {
@@ -528,6 +552,33 @@ class EnhancedRrt final : public Planner {
     return ids[static_cast<std::size_t>(std::min_element(dist.begin(), dist.end()) - dist.begin())];
   }
 
+  const EnhancedOptions& o_;
+  const std::size_t batch_;
+  const PlannerContext& ctx_;
+  const System& sys_;
+  const SystemInfo& info_;
+  const std::span<const double> p_;
+  const WeightedEuclidean metric_;
+  const SearchBudget budget_;
+  Rng rng_;  // batch = 1: the trial's one stream
+  const BiasedSampler biased_sampler_;
+  AdaptiveBias adaptive_;
+  std::vector<std::unique_ptr<Slot>> slots_;
+  std::optional<CoverageGrid> coverage_;
+  NamedSeries coverage_series_{"coverage", {}}, beta_series_{"beta", {}};
+  std::deque<Tree> forest_;  // trees never move (their NN index points into their own storage)
+  PlannerOutcome out_;
+  std::int64_t iteration_ = 0;  // Alg. 3's iteration count (one per slot committed)
+  bool stopped_ = false;        // a stop rule ended the search between two commits
+};
+
+class EnhancedRrt final : public Planner {
+ public:
+  EnhancedRrt(EnhancedOptions o, std::size_t batch) : o_(o), batch_(batch < 1 ? 1 : batch) {}
+
+  PlannerOutcome solve(const PlannerContext& ctx) override { return EnhancedSearch(o_, batch_, ctx).run(); }
+
+ private:
   EnhancedOptions o_;
   std::size_t batch_;
 };

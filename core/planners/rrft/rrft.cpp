@@ -65,15 +65,27 @@
 // The growth is scaled by n_g so that ḡ does not depend on the grid size: n_g·g is the coverage
 // gained per node in grid points' worth; a node in untouched space gains about π/3 ≈ 1 (in 2-D
 // and 3-D alike), a node refining an already dense region almost 0. A tree whose last `window`
-// extension attempts all failed (no input made progress) is terminated as stalled (D did not
-// change over those attempts: g = 0; without this rule such a tree would never reach the window).
+// extension attempts all failed (no input made progress) is stalled (below).
+//
+// Stalls (issue 27). A stall is not one of Alg. 3's termination criteria: g(T) is the coverage
+// gained per NODE, and a tree that adds no node says nothing about it (a tree of 12 nodes whose
+// nearest node to most samples is a dead end stalls, though its reachable set is barely
+// explored; rrt, with the same extension step, goes on and falsifies). So a stalled tree is not
+// concluded: it gives up its slot and is parked with its nodes, its stream and its series. A
+// free slot goes first to a new seed while Alg. 3 plants one (µ(P̄) > µ̄, fewer than max_seeds),
+// else to the parked tree that has waited longest, which resumes where it stopped (failed
+// streak reset) and may stall and be parked again. A tree is concluded only by g(T) or c(T), so
+// the search ends not_found only by the paper's own criterion: no tree active and none parked,
+// i.e. every seed's tree stopped growing or is fully grown, and P̄ is dispersed (µ(P̄) <= µ̄) or
+// max_seeds are planted. Otherwise it runs until falsified or the budget (timeout, node_cap);
+// with a 0-dimensional P the one tree resumes at once, so a stall never ends the search.
 //
 // Planting. After the terminations of a round, while fewer than n_t trees are active, fewer than
 // max_seeds were planted, the node cap is not reached and µ(P̄) > µ̄, the next Halton point is
 // appended to P̄ and a tree is planted there (Alg. 3: one new tree per terminated one). µ(P̄) is the
 // dispersion of eq. (2) over P in normalized coordinates divided by µ_max = the diameter of the
 // normalized box (so µ in [0, 1]; exact for a 1-D P). The search ends falsified, not_found (no
-// tree active), timeout or node_cap (over the total nodes of the forest).
+// tree active or parked), timeout or node_cap (over the total nodes of the forest).
 //
 // Defaults (for the papers' examples: P of 1-3 dimensions, grids of 10^3-10^6 points):
 //   n_t = 4      maximum active trees: the paper plants 3 initial seeds for 5 aircraft, and
@@ -90,12 +102,14 @@
 //                seed: 15 seeds for a 1-D P (the paper found its counterexamples at 5 and 8).
 //   max_seeds = 64 a hard cap on the trees of one trial, whatever the dimension of P.
 // Recorded: metrics seeds_planted (= trees), nodes_per_tree, winning_seed (-1: none),
-// winning_parameter, dispersion_final, terminated_growth / _coverage / _stalled, rounds; series
+// winning_parameter, dispersion_final, terminated_growth / _coverage, terminated_stalled (stalls:
+// times a tree was parked, several per tree possible), rounds; series
 // coverage/tree<i> (D(T), i.e. seed 003's c(T), against the tree's nodes), growth/tree<i>
 // (n_g·g(T) against the tree's nodes), dispersion (µ(P̄) against the forest's total nodes, one
 // point per planting); counters over the whole forest.
 #include "core/planners/rrft/rrft.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <mutex>
@@ -238,251 +252,302 @@ void check_rrft_system(const System& sys, const Json&) {
                                             sys.info().suite));
 }
 
-class Rrft final : public Planner {
+// One RRFT trial: the forest, its rounds and barriers. Rrft::solve builds one and runs it.
+class ForestSearch {
  public:
-  explicit Rrft(RrftOptions o) : o_(o) {}
+  ForestSearch(const RrftOptions& o, const PlannerContext& ctx)
+      : o_(o),
+        ctx_(ctx),
+        sys_(ctx.system),
+        info_(sys_.info()),
+        metric_(info_.metric_weights),
+        budget_(ctx),
+        searched_(has_width(info_.parameter_box)),
+        halton_(info_.parameter_box, halton_shift(o, ctx)),
+        max_active_(searched_ ? static_cast<std::size_t>(o.n_t) : 1),
+        max_seeds_(searched_ ? static_cast<std::size_t>(o.max_seeds) : 1),
+        mu_(searched_ ? 1.0 : 0.0),
+        n_g_(static_cast<double>(CoverageGrid(info_.coverage, info_.dim()).points())) {}
 
-  PlannerOutcome solve(const PlannerContext& ctx) override {
-    const System& sys = ctx.system;
-    const SystemInfo& info = sys.info();
-    check_rrft_system(sys, Json());
-    PlannerOutcome out;
-    const WeightedEuclidean metric(info.metric_weights);
-    const SearchBudget budget(ctx);
-    const Box& P = info.parameter_box;
-    bool searched = false;  // does P have an axis of non-zero width?
+  PlannerOutcome run() {
+    const std::size_t initial = std::min(max_active_, max_seeds_);
+    for (std::size_t i = 0; i < initial; ++i) plant();
+    done_ = end_checks();
+    if (!done_) plan_next_round();
+    if (!done_ && o_.batch > 1)
+      run_batched_rounds();
+    else if (!done_)
+      run_ahead_rounds();
+    return report();
+  }
+
+ private:
+  // Does P have an axis of non-zero width? Else there is nothing to search: one tree, µ = 0.
+  static bool has_width(const Box& P) {
+    bool searched = false;
     for (std::size_t k = 0; k < P.dim(); ++k) searched = searched || P.hi[k] > P.lo[k];
-
+    return searched;
+  }
+  // The Cranley–Patterson shift of the Halton sequence (`shift`), from the trial seed.
+  static std::vector<double> halton_shift(const RrftOptions& o, const PlannerContext& ctx) {
+    const Box& P = ctx.system.info().parameter_box;
     std::vector<double> shift;
-    if (o_.shift && P.dim() > 0) {
+    if (o.shift && P.dim() > 0) {
       Rng srng(splitmix64(ctx.seed ^ 0x48616c746f6e5368ULL));
       std::uniform_real_distribution<double> unit(0.0, 1.0);
       for (std::size_t k = 0; k < P.dim(); ++k) shift.push_back(unit(srng));
     }
-    HaltonSequence halton(P, shift);
-    std::vector<std::vector<double>> seeds;  // P̄
-    std::vector<std::unique_ptr<ForestTree>> trees;
-    std::vector<ForestTree*> active;  // in seed order
-    const std::size_t max_active = searched ? static_cast<std::size_t>(o_.n_t) : 1;
-    const std::size_t max_seeds = searched ? static_cast<std::size_t>(o_.max_seeds) : 1;
-    double mu = searched ? 1.0 : 0.0;
-    NamedSeries dispersion_series{"dispersion", {}};
-    PlannerCounters total;  // over the forest, as of the last barrier
-    std::int64_t rounds = 0;  // barriers passed (a tree planted at barrier b grows from round b + 1)
-    auto recount = [&] {
-      total = {};
-      for (const auto& t : trees) {
-        total.nodes += t->at_barrier.counters.nodes;
-        total.propagations += t->at_barrier.counters.propagations;
-        total.integration_steps += t->at_barrier.counters.integration_steps;
-      }
-    };
-    const double n_g = [&] {
-      const CoverageGrid probe(info.coverage, info.dim());
-      return static_cast<double>(probe.points());
-    }();
-    auto point_of = [&](const ForestTree& t) {
-      SeriesPoint pt;
-      pt.n = static_cast<double>(t.nodes.size());
-      pt.uncovered = t.grid->uncovered();
-      pt.has_growth = t.grid->nodes() > static_cast<std::size_t>(o_.window);
-      if (pt.has_growth) pt.growth = n_g * t.grid->growth(static_cast<std::size_t>(o_.window));
-      return pt;
-    };
-    // The end of a tree's round, by the tree itself: its counters, series lengths, found, and its
-    // termination test (stalled, not growing, fully grown), all functions of its own state.
-    auto end_round = [&](ForestTree& t, std::int64_t round) {
-      RoundEnd e;
-      e.round = round;
-      e.counters = t.counters;
-      e.coverage_points = t.coverage_series.points.size();
-      e.growth_points = t.growth_series.points.size();
-      e.point = point_of(t);
-      e.found = t.leaf != kNoNode;
-      if (!e.found) {
-        if (t.failed_streak >= o_.window)
-          e.decision = TreeEnd::stalled;
-        else if (e.point.has_growth && e.point.growth <= o_.g_min)
-          e.decision = TreeEnd::growth;
-        else if (e.point.uncovered <= o_.c_min)
-          e.decision = TreeEnd::coverage;
-      }
-      t.stopped = e.found || e.decision != TreeEnd::active;
-      t.last_round = round;
-      t.finished.push_back(e);
-    };
+    return shift;
+  }
 
-    auto plant = [&] {
-      std::vector<double> p = searched ? halton.next() : std::vector<double>(ctx.parameters.begin(), ctx.parameters.end());
-      seeds.push_back(p);
-      auto t = std::make_unique<ForestTree>(sys, metric, trees.size(), std::move(p), ctx.seed);
-      t->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
-      const NodeId root = t->nodes.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
-      t->nn->add(root, info.initial_state);
-      t->grid->add(info.initial_state);
-      t->counters.nodes = 1;
-      if (sys.spec(info.initial_mode, info.initial_state, t->p) <= 0.0) t->leaf = root;
-      t->at_barrier.counters = t->counters;
-      t->at_barrier.found = t->leaf != kNoNode;
-      t->stopped = t->at_barrier.found;
-      t->last_round = rounds;
-      active.push_back(t.get());
-      trees.push_back(std::move(t));
-      recount();
-      mu = searched ? dispersion(seeds, P) : 0.0;
-      dispersion_series.points.emplace_back(static_cast<double>(total.nodes), mu);
-    };
-    auto record_point = [&](ForestTree& t, const SeriesPoint& pt) {
-      if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == pt.n) return;
-      t.coverage_series.points.emplace_back(pt.n, pt.uncovered);
-      if (pt.has_growth) t.growth_series.points.emplace_back(pt.n, pt.growth);
-    };
-
-    const std::size_t initial = std::min(max_active, max_seeds);
-    for (std::size_t i = 0; i < initial; ++i) plant();
-
-    std::vector<std::int64_t> quota;
-    std::vector<std::unique_ptr<RrftSlot>> slots;  // batch > 1: the rounds' slot scratch, reused
-    std::int64_t ahead = 0;   // run-ahead: rounds past (barrier + 1) a tree may start
-    ForestTree* winner = nullptr;
-    std::int64_t terminated[4] = {0, 0, 0, 0};
-    bool done = false;
-    // The end checks, in seed order: found? (lowest seed index wins), no tree left, the budget.
-    auto end_checks = [&] {
-      for (ForestTree* t : active)
-        if (t->at_barrier.found) {
-          winner = t;
-          out.status = TrialStatus::falsified;
-          return true;
-        }
-      if (active.empty()) {
-        out.status = TrialStatus::not_found;
-        return true;
-      }
-      if (auto why = budget.exhausted(total.nodes)) {
-        out.status = *why;
-        return true;
-      }
-      return false;
-    };
-    // Node quotas of the next round in seed order, and how far trees may run ahead of it.
-    auto plan_next_round = [&] {
-      std::int64_t left = ctx.limits.max_nodes - total.nodes;
-      const std::int64_t per_round = static_cast<std::int64_t>(max_active) * (o_.K + 1);  // nodes and roots
-      ahead = 0;
-      while (ahead < kRunAhead && left >= (ahead + 2) * per_round) ++ahead;
-      for (ForestTree* t : active) {
-        t->next_quota = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
-        left -= t->next_quota;
-      }
-    };
-    // The barrier of round `rounds` (every active tree finished it): found? then terminations
-    // (seed order), plantings, the end checks. Returns true when the search ends.
-    auto barrier = [&] {
-      ++rounds;
-      for (ForestTree* t : active) {
-        t->at_barrier = t->finished.front();
-        t->finished.pop_front();
-      }
-      recount();
-      bool found = false;
-      for (ForestTree* t : active) found = found || t->at_barrier.found;
-      if (!found) {  // terminations, unless a tree found the unsafe set this round
-        std::vector<ForestTree*> still;
-        for (ForestTree* t : active) {
-          t->end = t->at_barrier.decision;
-          if (t->end == TreeEnd::active) {
-            still.push_back(t);
-            continue;
-          }
-          ++terminated[static_cast<int>(t->end)];
-          record_point(*t, point_of(*t));  // a terminated tree stopped at this round
-          if (ctx.trees) ctx.trees->add(t->index, t->nodes);  // --save-trees: before its nodes are freed
-          release(*t);
-        }
-        active.swap(still);
-        // Plantings: one per free slot while P̄ is not dispersed enough (Alg. 3).
-        while (searched && active.size() < max_active && trees.size() < max_seeds && mu > o_.mu_min &&
-               total.nodes < ctx.limits.max_nodes)
-          plant();
-      }
-      if (end_checks()) return true;
-      plan_next_round();
-      return false;
-    };
-
-    done = end_checks();
-    if (!done) plan_next_round();
-    if (!done && o_.batch > 1) {  // lockstep rounds of B slots per tree
-      while (!done) {
-        quota.clear();
-        for (ForestTree* t : active) quota.push_back(t->next_quota);
-        grow_batched(ctx, budget, sys, metric, active, quota, static_cast<std::uint64_t>(rounds + 1), slots);
-        for (ForestTree* t : active) end_round(*t, rounds + 1);
-        done = barrier();
-      }
-    } else if (!done) {
-      // Run-ahead rounds of K extensions: a task grows one round of one tree; when it ends, the
-      // same task starts that tree's next round if the tree goes on and the look-ahead allows,
-      // and passes every barrier whose round all active trees have finished.
-      std::mutex mutex;
-      tbb::task_group tasks;
-      std::function<void(ForestTree*)> start;  // under `mutex`
-      auto pass_barriers = [&] {                 // under `mutex`
-        while (!done) {
-          for (ForestTree* t : active)
-            if (t->finished.empty()) return;
-          done = barrier();
-          if (!done)
-            for (ForestTree* t : active) start(t);  // parked by the look-ahead, or planted
-        }
-      };
-      start = [&](ForestTree* t) {
-        if (done || t->running || t->stopped) return;
-        const std::int64_t round = t->last_round + 1;
-        if (round > rounds + 1 + ahead) return;  // parked until the next barrier
-        const std::int64_t q = round == rounds + 1 ? t->next_quota : o_.K;
-        t->running = true;
-        tasks.run([&, t, round, q] {
-          auto body = [&] {
-            { std::lock_guard<std::mutex> sync(mutex); }  // happens-before from the spawner
-            grow(info, budget, *t, q);
-            std::lock_guard<std::mutex> lock(mutex);
-            end_round(*t, round);
-            t->running = false;
-            start(t);
-            pass_barriers();
-          };
-          if (ctx.cpu)
-            ctx.cpu->task(body);  // cpu_s counts the threads that helped
-          else
-            body();
-        });
-      };
-      tbb::this_task_arena::isolate([&] {  // while it waits, this thread runs only this trial's rounds
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          for (ForestTree* t : active) start(t);
-        }
-        tasks.wait();
-      });
-      std::lock_guard<std::mutex> lock(mutex);  // happens-before from the last task
+  // The forest's counters as of the last barrier.
+  void recount() {
+    total_ = {};
+    for (const auto& t : trees_) {
+      total_.nodes += t->at_barrier.counters.nodes;
+      total_.propagations += t->at_barrier.counters.propagations;
+      total_.integration_steps += t->at_barrier.counters.integration_steps;
     }
-    if (winner) {
-      Trajectory traj = trajectory_from_tree(sys, *winner->prop, winner->nodes, winner->leaf, winner->p);
-      traj.parameters = winner->p;
-      out.trajectory = std::move(traj);
-    }
+  }
 
-    // Per-trial results, as of the last barrier: a tree that ran ahead of it drops the series
-    // points of its later rounds (their counters are not counted either).
+  SeriesPoint point_of(const ForestTree& t) const {
+    SeriesPoint pt;
+    pt.n = static_cast<double>(t.nodes.size());
+    pt.uncovered = t.grid->uncovered();
+    pt.has_growth = t.grid->nodes() > static_cast<std::size_t>(o_.window);
+    if (pt.has_growth) pt.growth = n_g_ * t.grid->growth(static_cast<std::size_t>(o_.window));
+    return pt;
+  }
+
+  static void record_point(ForestTree& t, const SeriesPoint& pt) {
+    if (!t.coverage_series.points.empty() && t.coverage_series.points.back().first == pt.n) return;
+    t.coverage_series.points.emplace_back(pt.n, pt.uncovered);
+    if (pt.has_growth) t.growth_series.points.emplace_back(pt.n, pt.growth);
+  }
+
+  // The tree's own termination test: stalled, not growing, fully grown (or active).
+  TreeEnd termination_test(const ForestTree& t, const SeriesPoint& pt) const {
+    if (t.failed_streak >= o_.window) return TreeEnd::stalled;
+    if (pt.has_growth && pt.growth <= o_.g_min) return TreeEnd::growth;
+    if (pt.uncovered <= o_.c_min) return TreeEnd::coverage;
+    return TreeEnd::active;
+  }
+
+  // The end of a tree's round, by the tree itself: its counters, series lengths, found, and its
+  // termination test, all functions of its own state.
+  void end_round(ForestTree& t, std::int64_t round) const {
+    RoundEnd e;
+    e.round = round;
+    e.counters = t.counters;
+    e.coverage_points = t.coverage_series.points.size();
+    e.growth_points = t.growth_series.points.size();
+    e.point = point_of(t);
+    e.found = t.leaf != kNoNode;
+    if (!e.found) e.decision = termination_test(t, e.point);
+    t.stopped = e.found || e.decision != TreeEnd::active;
+    t.last_round = round;
+    t.finished.push_back(e);
+  }
+
+  // A new tree at the next seed of P̄ (the suite's parameters when P is not searched).
+  void plant() {
+    std::vector<double> p = searched_ ? halton_.next() : std::vector<double>(ctx_.parameters.begin(), ctx_.parameters.end());
+    seeds_.push_back(p);
+    auto t = std::make_unique<ForestTree>(sys_, metric_, trees_.size(), std::move(p), ctx_.seed);
+    t->prop->set_interrupt(budget_.interrupt());  // a propagation past the deadline ends as rejected
+    const NodeId root = t->nodes.add(kNoNode, info_.initial_mode, info_.initial_mode, info_.initial_state, {}, 0.0, -1);
+    t->nn->add(root, info_.initial_state);
+    t->grid->add(info_.initial_state);
+    t->counters.nodes = 1;
+    if (sys_.spec(info_.initial_mode, info_.initial_state, t->p) <= 0.0) t->leaf = root;
+    t->at_barrier.counters = t->counters;
+    t->at_barrier.found = t->leaf != kNoNode;
+    t->stopped = t->at_barrier.found;
+    t->last_round = rounds_;
+    active_.push_back(t.get());
+    trees_.push_back(std::move(t));
     recount();
-    out.counters = total;
+    mu_ = searched_ ? dispersion(seeds_, info_.parameter_box) : 0.0;
+    dispersion_series_.points.emplace_back(static_cast<double>(total_.nodes), mu_);
+  }
+
+  // The end checks, in seed order: found? (lowest seed index wins), no tree left, the budget.
+  bool end_checks() {
+    for (ForestTree* t : active_)
+      if (t->at_barrier.found) {
+        winner_ = t;
+        out_.status = TrialStatus::falsified;
+        return true;
+      }
+    if (active_.empty()) {
+      out_.status = TrialStatus::not_found;
+      return true;
+    }
+    if (auto why = budget_.exhausted(total_.nodes)) {
+      out_.status = *why;
+      return true;
+    }
+    return false;
+  }
+
+  // Node quotas of the next round in seed order, and how far trees may run ahead of it.
+  void plan_next_round() {
+    std::int64_t left = ctx_.limits.max_nodes - total_.nodes;
+    const std::int64_t per_round = static_cast<std::int64_t>(max_active_) * (o_.K + 1);  // nodes and roots
+    ahead_ = 0;
+    while (ahead_ < kRunAhead && left >= (ahead_ + 2) * per_round) ++ahead_;
+    for (ForestTree* t : active_) {
+      t->next_quota = std::min<std::int64_t>(o_.K, std::max<std::int64_t>(left, 0));
+      left -= t->next_quota;
+    }
+  }
+
+  // The trees whose round ended in a termination leave the active set (seed order).
+  void terminate_ended_trees() {
+    std::vector<ForestTree*> still;
+    for (ForestTree* t : active_) {
+      t->end = t->at_barrier.decision;
+      if (t->end == TreeEnd::active) {
+        still.push_back(t);
+        continue;
+      }
+      ++terminated_[static_cast<int>(t->end)];
+      record_point(*t, point_of(*t));  // a terminated tree stopped at this round
+      if (t->end == TreeEnd::stalled) {  // not concluded: it keeps its nodes and waits for a slot
+        parked_.push_back(t);
+        continue;
+      }
+      if (ctx_.trees) ctx_.trees->add(t->index, t->nodes);  // --save-trees: before its nodes are freed
+      release(*t);
+    }
+    active_.swap(still);
+  }
+
+  // The free slots, in this order: a new seed while P̄ is not dispersed enough (Alg. 3), else
+  // the stalled tree that has waited longest resumes (see "Stalls" in the header).
+  void refill_slots() {
+    while (active_.size() < max_active_) {
+      if (searched_ && trees_.size() < max_seeds_ && mu_ > o_.mu_min && total_.nodes < ctx_.limits.max_nodes) {
+        plant();
+      } else if (!parked_.empty()) {
+        resume(parked_.front());
+        parked_.pop_front();
+      } else {
+        break;
+      }
+    }
+  }
+
+  // A stalled tree grows again from where it stopped, with its own stream, in seed order among
+  // the active trees; its next round is the one after this barrier.
+  void resume(ForestTree* t) {
+    t->end = TreeEnd::active;
+    t->at_barrier.decision = TreeEnd::active;
+    t->failed_streak = 0;
+    t->stopped = false;
+    t->last_round = rounds_;
+    auto at = std::find_if(active_.begin(), active_.end(), [&](const ForestTree* a) { return a->index > t->index; });
+    active_.insert(at, t);
+  }
+
+  // The barrier of round `rounds_` (every active tree finished it): found? then terminations
+  // (seed order), plantings, the end checks. Returns true when the search ends.
+  bool barrier() {
+    ++rounds_;
+    for (ForestTree* t : active_) {
+      t->at_barrier = t->finished.front();
+      t->finished.pop_front();
+    }
+    recount();
+    bool found = false;
+    for (ForestTree* t : active_) found = found || t->at_barrier.found;
+    if (!found) {  // terminations, unless a tree found the unsafe set this round
+      terminate_ended_trees();
+      refill_slots();
+    }
+    if (end_checks()) return true;
+    plan_next_round();
+    return false;
+  }
+
+  // batch > 1: lockstep rounds of B slots per tree.
+  void run_batched_rounds() {
+    std::vector<std::int64_t> quota;
+    std::vector<std::unique_ptr<RrftSlot>> slots;  // the rounds' slot scratch, reused
+    while (!done_) {
+      quota.clear();
+      for (ForestTree* t : active_) quota.push_back(t->next_quota);
+      grow_batched(active_, quota, static_cast<std::uint64_t>(rounds_ + 1), slots);
+      for (ForestTree* t : active_) end_round(*t, rounds_ + 1);
+      done_ = barrier();
+    }
+  }
+
+  // batch = 1: run-ahead rounds of K extensions. A task grows one round of one tree; when it
+  // ends, the same task starts that tree's next round if the tree goes on and the look-ahead
+  // allows, and passes every barrier whose round all active trees have finished.
+  void run_ahead_rounds() {
+    tbb::task_group tasks;
+    tbb::this_task_arena::isolate([&] {  // while it waits, this thread runs only this trial's rounds
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (ForestTree* t : active_) start_round(tasks, t);
+      }
+      tasks.wait();
+    });
+    std::lock_guard<std::mutex> lock(mutex_);  // happens-before from the last task
+  }
+
+  // Starts tree t's next round as a task, unless it is parked by the look-ahead. Under mutex_.
+  void start_round(tbb::task_group& tasks, ForestTree* t) {
+    if (done_ || t->running || t->stopped) return;
+    const std::int64_t round = t->last_round + 1;
+    if (round > rounds_ + 1 + ahead_) return;  // parked until the next barrier
+    const std::int64_t q = round == rounds_ + 1 ? t->next_quota : o_.K;
+    t->running = true;
+    tasks.run([this, &tasks, t, round, q] {
+      auto body = [&] {
+        { std::lock_guard<std::mutex> sync(mutex_); }  // happens-before from the spawner
+        grow(*t, q);
+        std::lock_guard<std::mutex> lock(mutex_);
+        end_round(*t, round);
+        t->running = false;
+        start_round(tasks, t);
+        pass_barriers(tasks);
+      };
+      if (ctx_.cpu)
+        ctx_.cpu->task(body);  // cpu_s counts the threads that helped
+      else
+        body();
+    });
+  }
+
+  // Passes every barrier whose round all active trees have finished. Under mutex_.
+  void pass_barriers(tbb::task_group& tasks) {
+    while (!done_) {
+      for (ForestTree* t : active_)
+        if (t->finished.empty()) return;
+      done_ = barrier();
+      if (!done_)
+        for (ForestTree* t : active_) start_round(tasks, t);  // parked by the look-ahead, or planted
+    }
+  }
+
+  // Per-trial results, as of the last barrier: a tree that ran ahead of it drops the series
+  // points of its later rounds (their counters are not counted either).
+  PlannerOutcome report() {
+    if (winner_) {
+      Trajectory traj = trajectory_from_tree(sys_, *winner_->prop, winner_->nodes, winner_->leaf, winner_->p);
+      traj.parameters = winner_->p;
+      out_.trajectory = std::move(traj);
+    }
+    recount();
+    out_.counters = total_;
     Json per_tree = Json::array();
-    for (auto& t : trees) {
+    for (auto& t : trees_) {
       per_tree.push_back(t->at_barrier.counters.nodes);
       if (t->grid) {
-        if (t->last_round > rounds) {
+        if (t->last_round > rounds_) {
           t->coverage_series.points.resize(t->at_barrier.coverage_points);
           t->growth_series.points.resize(t->at_barrier.growth_points);
           record_point(*t, t->at_barrier.point);
@@ -490,37 +555,36 @@ class Rrft final : public Planner {
           record_point(*t, point_of(*t));
         }
       }
-      out.series.push_back(std::move(t->coverage_series));
-      out.series.push_back(std::move(t->growth_series));
+      out_.series.push_back(std::move(t->coverage_series));
+      out_.series.push_back(std::move(t->growth_series));
     }
-    out.series.push_back(std::move(dispersion_series));
-    out.metrics["seeds_planted"] = trees.size();
-    out.metrics["trees"] = trees.size();
-    out.metrics["nodes_per_tree"] = per_tree;
-    out.metrics["winning_seed"] = winner ? static_cast<std::int64_t>(winner->index) : std::int64_t{-1};
-    out.metrics["winning_parameter"] = winner ? Json(winner->p) : Json(nullptr);
+    out_.series.push_back(std::move(dispersion_series_));
+    out_.metrics["seeds_planted"] = trees_.size();
+    out_.metrics["trees"] = trees_.size();
+    out_.metrics["nodes_per_tree"] = per_tree;
+    out_.metrics["winning_seed"] = winner_ ? static_cast<std::int64_t>(winner_->index) : std::int64_t{-1};
+    out_.metrics["winning_parameter"] = winner_ ? Json(winner_->p) : Json(nullptr);
     // Each coordinate also as a scalar (p0, p1, ...), so tables can average it over trials.
-    if (winner)
-      for (std::size_t i = 0; i < winner->p.size(); ++i) out.metrics["winning_p" + std::to_string(i)] = winner->p[i];
-    out.metrics["dispersion_final"] = mu;
-    out.metrics["terminated_growth"] = terminated[static_cast<int>(TreeEnd::growth)];
-    out.metrics["terminated_coverage"] = terminated[static_cast<int>(TreeEnd::coverage)];
-    out.metrics["terminated_stalled"] = terminated[static_cast<int>(TreeEnd::stalled)];
-    out.metrics["rounds"] = rounds;
-    if (ctx.trees)  // --save-trees: the trees not released at a termination (recorded there)
-      for (const auto& t : trees)
-        if (t->end == TreeEnd::active) ctx.trees->add(t->index, t->nodes);
-    return out;
+    if (winner_)
+      for (std::size_t i = 0; i < winner_->p.size(); ++i) out_.metrics["winning_p" + std::to_string(i)] = winner_->p[i];
+    out_.metrics["dispersion_final"] = mu_;
+    out_.metrics["terminated_growth"] = terminated_[static_cast<int>(TreeEnd::growth)];
+    out_.metrics["terminated_coverage"] = terminated_[static_cast<int>(TreeEnd::coverage)];
+    out_.metrics["terminated_stalled"] = terminated_[static_cast<int>(TreeEnd::stalled)];
+    out_.metrics["rounds"] = rounds_;
+    if (ctx_.trees)  // --save-trees: the trees not released at a termination (recorded there)
+      for (const auto& t : trees_)
+        if (t->end == TreeEnd::active || t->end == TreeEnd::stalled) ctx_.trees->add(t->index, t->nodes);
+    return std::move(out_);
   }
 
- private:
   // Up to K extension attempts of one tree (the RRT step of rrt_extension.hpp), at most `quota`
   // nodes added; stops early when the tree reaches s <= 0 or the time is up.
-  void grow(const SystemInfo& info, const SearchBudget& budget, ForestTree& t, std::int64_t quota) const {
-    const std::size_t n = info.dim();
+  void grow(ForestTree& t, std::int64_t quota) const {
+    const std::size_t n = info_.dim();
     std::int64_t added = 0;
     for (int a = 0; a < o_.K && added < quota && t.leaf == kNoNode; ++a) {
-      if (budget.exhausted(0)) return;  // time or cancellation (the node cap is the quota's)
+      if (budget_.exhausted(0)) return;  // time or cancellation (the node cap is the quota's)
       for (std::size_t i = 0; i < n; ++i) t.x_rand[i] = t.uniform[i](t.rng);
       const RrtExtensionResult r = t.step.extend(t.nodes, *t.nn, *t.prop, t.x_rand, t.p, t.rng, t.counters);
       if (!r.added()) {
@@ -536,17 +600,15 @@ class Rrft final : public Planner {
   // One batched round (batch = B > 1): every active tree's B slots proposed in one parallel_slots
   // call against the frozen trees, then each tree's slots committed in slot order, at most
   // `quota` nodes per tree, stopping at the tree's first node with s <= 0.
-  void grow_batched(const PlannerContext& ctx, const SearchBudget& budget, const System& sys,
-                    const WeightedEuclidean& metric, const std::vector<ForestTree*>& active,
-                    const std::vector<std::int64_t>& quota, std::uint64_t round,
-                    std::vector<std::unique_ptr<RrftSlot>>& slots) const {
-    const std::size_t B = o_.batch, n = sys.info().dim();
+  void grow_batched(const std::vector<ForestTree*>& active, const std::vector<std::int64_t>& quota,
+                    std::uint64_t round, std::vector<std::unique_ptr<RrftSlot>>& slots) const {
+    const std::size_t B = o_.batch, n = info_.dim();
     const std::size_t count = active.size() * B;
     while (slots.size() < count) {
-      slots.push_back(std::make_unique<RrftSlot>(sys, metric));
-      slots.back()->prop->set_interrupt(budget.interrupt());  // a propagation past the deadline ends as rejected
+      slots.push_back(std::make_unique<RrftSlot>(sys_, metric_));
+      slots.back()->prop->set_interrupt(budget_.interrupt());  // a propagation past the deadline ends as rejected
     }
-    parallel_slots(count, ctx.cpu, [&](std::size_t k) {
+    parallel_slots(count, ctx_.cpu, [&](std::size_t k) {
       const std::size_t i = k / B, s = k % B;
       const ForestTree& t = *active[i];
       RrftSlot& slot = *slots[k];
@@ -554,7 +616,7 @@ class Rrft final : public Planner {
       slot.proposed = false;
       slot.interrupted = false;
       if (quota[i] <= 0 || t.leaf != kNoNode) return;  // nothing this tree may add
-      if (budget.exhausted(0)) return;                  // time or cancellation
+      if (budget_.exhausted(0)) return;                 // time or cancellation
       Rng g(slot_seed(t.stream_seed, round, s));
       for (std::size_t d = 0; d < n; ++d) {
         auto axis = t.uniform[d];  // a copy: distributions are not const-callable
@@ -564,25 +626,28 @@ class Rrft final : public Planner {
       slot.interrupted = slot.prop->interrupted();
       slot.proposed = true;
     });
-    for (std::size_t i = 0; i < active.size(); ++i) {  // commit: trees in seed order, slots in slot order
-      ForestTree& t = *active[i];
-      for (std::size_t s = 0; s < B; ++s) {  // every propagation of the round was made
-        t.counters.propagations += slots[i * B + s]->counters.propagations;
-        t.counters.integration_steps += slots[i * B + s]->counters.integration_steps;
+    for (std::size_t i = 0; i < active.size(); ++i) commit_slots(*active[i], quota[i], &slots[i * B]);
+  }
+
+  // Tree t's B slots of a batched round committed in slot order (trees in seed order).
+  void commit_slots(ForestTree& t, std::int64_t quota, const std::unique_ptr<RrftSlot>* slots) const {
+    const std::size_t B = o_.batch;
+    for (std::size_t s = 0; s < B; ++s) {  // every propagation of the round was made
+      t.counters.propagations += slots[s]->counters.propagations;
+      t.counters.integration_steps += slots[s]->counters.integration_steps;
+    }
+    std::int64_t added = 0;
+    for (std::size_t s = 0; s < B && added < quota && t.leaf == kNoNode; ++s) {
+      RrftSlot& slot = *slots[s];
+      if (!slot.proposed) continue;
+      const RrtExtensionResult r = slot.step.commit(t.nodes, *t.nn, t.counters);
+      if (!r.added()) {
+        if (slot.interrupted) break;  // the deadline passed mid-extension: not a stall
+        ++t.failed_streak;
+        continue;
       }
-      std::int64_t added = 0;
-      for (std::size_t s = 0; s < B && added < quota[i] && t.leaf == kNoNode; ++s) {
-        RrftSlot& slot = *slots[i * B + s];
-        if (!slot.proposed) continue;
-        const RrtExtensionResult r = slot.step.commit(t.nodes, *t.nn, t.counters);
-        if (!r.added()) {
-          if (slot.interrupted) break;  // the deadline passed mid-extension: not a stall
-          ++t.failed_streak;
-          continue;
-        }
-        ++added;
-        after_add(t, r);
-      }
+      ++added;
+      after_add(t, r);
     }
   }
 
@@ -612,9 +677,45 @@ class Rrft final : public Planner {
   // while one tree's round is slow, few enough that little work is done past the round where
   // the search ends (it is thrown away).
   static constexpr std::int64_t kRunAhead = 4;
-  RrftOptions o_;
+
+  const RrftOptions& o_;
+  const PlannerContext& ctx_;
+  const System& sys_;
+  const SystemInfo& info_;
+  const WeightedEuclidean metric_;
+  const SearchBudget budget_;
+  const bool searched_;
+  HaltonSequence halton_;
+  const std::size_t max_active_, max_seeds_;
+  double mu_;        // µ(P̄)
+  const double n_g_;  // grid points of the coverage grid
+  PlannerOutcome out_;
+  std::vector<std::vector<double>> seeds_;  // P̄
+  std::vector<std::unique_ptr<ForestTree>> trees_;
+  std::vector<ForestTree*> active_;  // in seed order
+  std::deque<ForestTree*> parked_;   // stalled trees waiting for a free slot, the longest waiting first
+  NamedSeries dispersion_series_{"dispersion", {}};
+  PlannerCounters total_;     // over the forest, as of the last barrier
+  std::int64_t rounds_ = 0;   // barriers passed (a tree planted at barrier b grows from round b + 1)
+  std::int64_t ahead_ = 0;    // run-ahead: rounds past (barrier + 1) a tree may start
+  ForestTree* winner_ = nullptr;
+  std::int64_t terminated_[4] = {0, 0, 0, 0};
+  bool done_ = false;
+  std::mutex mutex_;  // run-ahead: the tasks' hand-offs (visible to ThreadSanitizer)
 };
 
+class Rrft final : public Planner {
+ public:
+  explicit Rrft(RrftOptions o) : o_(o) {}
+
+  PlannerOutcome solve(const PlannerContext& ctx) override {
+    check_rrft_system(ctx.system, Json());
+    return ForestSearch(o_, ctx).run();
+  }
+
+ private:
+  RrftOptions o_;
+};
 }  // namespace
 
 MethodEntry rrft_method() {
