@@ -189,6 +189,34 @@ void BM_PropagateGuardIntruder(benchmark::State& state) {
 }
 BENCHMARK(BM_PropagateGuardIntruder)->MinTime(kShortMinTime);
 
+// Suites whose guards have a peak function (model.hpp guard_peak: bands and discs watched
+// inside a step): aircraft's default instance (the 5-aircraft crossing, 2N + 10 guards, δt = 20 s
+// of Dormand-Prince steps of at most 0.5 s) under a corner wind, and the hovercraft (one disc,
+// δt = 0.5 s, 50 RK4 steps).
+void BM_PropagateAircraft(benchmark::State& state) {
+  const auto system = suite_instance("aircraft");
+  const SystemInfo& info = system->info();
+  const auto propagator = system->make_propagator();
+  // Every aircraft's heading band fires at t = 0 (they start pointing at their goals): take
+  // those zero-time jumps first, then measure one extension from the all-cruise state.
+  std::vector<double> x = info.initial_state, next(x.size());
+  const std::vector<double> wind{0.03, 0.03};
+  Mode q = info.initial_mode;
+  for (int k = 0; k < 100; ++k) {
+    const PropagationResult r = propagator->propagate(q, x, wind, info.parameters, info.step_duration, next);
+    if (r.end != PropagationEnd::jumped || r.duration > 0.0) break;
+    q = r.mode;
+    x = next;
+  }
+  measure_propagation(state, *system, *propagator, q, x, wind, info.step_duration, PropagationEnd::completed);
+}
+BENCHMARK(BM_PropagateAircraft)->MinTime(kShortMinTime);
+
+void BM_PropagateHovercraft(benchmark::State& state) {
+  measure_suite_propagation(state, "hovercraft", {10.0, 5.0});
+}
+BENCHMARK(BM_PropagateHovercraft)->MinTime(kShortMinTime);
+
 // The time-to-go of seed 000 eq. (III.2) in its closed form for input-affine f (all three suites
 // are): from 64 states x to 64 samples y, both uniform in the suite's sampling box (fixed seed),
 // cycled; items are evaluations, so time_per_item is the cost of one t2go(x, y).

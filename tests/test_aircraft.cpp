@@ -241,32 +241,37 @@ TEST(AircraftProtocol, ArrivalAndRetargetingUnderWind) {
 }
 
 // Issue 27: the heading band |θ_goal − θ| < 1e-3 is 2e-3 rad wide; under a crosswind the bearing
-// drifts (here +0.033 rad/s, 3 km from the goal) and the heading error, which lags it with a 1 s
-// time constant, crosses zero at ~0.04 rad/s: the band is crossed in ~0.05 s, inside one 0.5 s
-// Dormand-Prince step. The transition must fire at the band's edge all the same, at the time a
-// fine-step simulation finds.
+// drifts (here ~0.1 rad/s, 1 km from the goal) and the heading error, which lags it with a 1 s
+// time constant, crosses zero at about that rate: the band is crossed in ~0.02 s. With steps of
+// 0.5 s (RK4 here, so that the step is certain; Dormand-Prince's max_step is 0.5 s) both step
+// ends lie outside the band. The transition must fire at the band's edge all the same, at the
+// time a fine-step simulation finds.
 TEST(AircraftProtocol, TheHeadingBandFiresWhenCrossedInsideOneStep) {
   AircraftSystemOptions o;
   o.constants.w = 0.1;
-  AircraftScenario sc = scenario({{0, 0}, {100, 100}}, {{3, 0}, {200, 100}});
+  o.max_step = 0.005;  // the reference: Dormand-Prince with steps of at most 5 ms
+  AircraftScenario sc = scenario({{0, 0}, {100, 100}}, {{1.5, 0}, {200, 100}});
   sc.heading[0] += 0.3;  // heading error −0.3 rad: the error rises through the band
+  sc.heading[1] += 0.5;  // far away, still turning (else its band would fire at t = 0)
+  auto sys = make_aircraft_system(sc, o);
+  IntegratorSettings coarse;
+  coarse.kind = IntegratorKind::rk4;
+  coarse.step = coarse.max_step = 0.5;
   double t_event[2];
   for (int fine = 0; fine < 2; ++fine) {
-    o.max_step = fine ? 0.005 : 0.5;
-    auto sys = make_aircraft_system(sc, o);
-    auto prop = sys->make_propagator();
+    auto prop = fine ? sys->make_propagator() : sys->make_propagator(coarse);
     const std::vector<double> x0 = sys->info().initial_state, u{0.0, -0.1}, par{5.25};
     std::vector<double> x1(x0.size());
     const PropagationResult r = prop->propagate(sys->info().initial_mode, x0, u, par, 10.0, x1);
-    ASSERT_EQ(r.end, PropagationEnd::jumped) << "max_step " << o.max_step;
+    ASSERT_EQ(r.end, PropagationEnd::jumped) << (fine ? "fine" : "coarse");
     EXPECT_EQ(r.transition, 0);
     EXPECT_EQ(aircraft_mode(r.mode, 0), AircraftMode::cruise);
-    const double error = std::remainder(std::atan2(0.0 - x1[1], 3.0 - x1[0]) - x1[2], 2 * kPi);
+    const double error = std::remainder(std::atan2(0.0 - x1[1], 1.5 - x1[0]) - x1[2], 2 * kPi);
     EXPECT_NEAR(std::abs(error), 1e-3, 1e-7);
     t_event[fine] = r.duration;
   }
-  EXPECT_GT(t_event[0], 1.0);  // well after the first steps, once they have grown to 0.5 s
-  EXPECT_NEAR(t_event[0], t_event[1], 1e-6);
+  EXPECT_GT(t_event[0], 1.0);  // inside the third step or later, not at a step end
+  EXPECT_NEAR(t_event[0], t_event[1], 1e-3);  // RK4 at 0.5 s against the 5 ms reference
 }
 
 // --- the safer protocol ------------------------------------------------------------------------
