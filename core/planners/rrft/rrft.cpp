@@ -94,10 +94,11 @@
 // parked and nothing may be planted or restarted: P̄ dispersed (µ(P̄) <= µ̄) or max_seeds planted,
 // and every seed's reachable set covered by one of its trees. Otherwise it runs until falsified
 // or the budget (timeout, node_cap; a planting or restart refused by the node cap ends it
-// node_cap). With the default thresholds a tree in two or more dimensions usually stops growing
-// before it is fully grown (for nodes spread evenly, n_g·g ≈ 2·D(T)³ in 2-D, i.e. the growth
-// stop comes at D(T) ≈ 0.17 > c_min = 0.05), so in practice RRFT runs to its budget unless it
-// falsifies, as rrt does.
+// node_cap). With the default thresholds a tree rarely ends fully grown: on navigation,
+// aircraft (random, N = 10) and thermostat the trees stopped growing at D(T) = 0.6-0.99, the
+// sampling boxes being mostly unreachable or far larger than a few hundred nodes cover. So in
+// practice RRFT, like rrt, runs until it falsifies or its budget ends; not_found needs a
+// reachable set its trees can cover (test_rrft's grid walk ends not_found after one tree).
 //
 // Planting. After the terminations of a round, while fewer than n_t trees are active, fewer than
 // max_seeds were planted, the node cap is not reached and µ(P̄) > µ̄, the next Halton point is
@@ -787,7 +788,8 @@ class Rrft final : public Planner {
 MethodEntry rrft_method() {
   return {"rrft",
           "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
-          "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
+          "a tree ends on growth/coverage and is replaced by a new seed while the seeds' dispersion is above mu_min, "
+          "else by a restart at a seed whose trees all stopped growing (not_found only when every seed is covered)",
           {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
            {"K", 10, "extension attempts per active tree per round at batch = 1 (K = 1: the interleaving of Alg. 3; batch B > 1: B slots per tree per round)", "[1, 100000]"},
            {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},
