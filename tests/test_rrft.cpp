@@ -208,25 +208,35 @@ TEST(rrft, FindsTheUnsafeSetWhereItIsReachableAndTheWitnessValidates) {
   }
 }
 
-TEST(rrft, UnreachableEverywhereEndsNotFoundOnceSeedsAreDispersed) {
+// Issue 27: the growth stop ends a tree, not the search. Once P̄ is dispersed, a tree that stops
+// growing makes room for a restart at a seed whose trees all stopped growing; the unsafe set is
+// unreachable and no tree can be fully grown (at most half the box is reachable), so the search
+// runs to the node cap. Up to then it is the search that used to end not_found at 8,001 nodes.
+TEST(rrft, UnreachableEverywhereRestartsOnceSeedsAreDispersed) {
   auto sys = ramp(2.5);
   // µ̄ = 0.2: van der Corput seeds reach µ = 1/8 at the 7th (µ = 1/4 after 3 to 6).
-  const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}));
-  EXPECT_EQ(out.status, TrialStatus::not_found);
+  const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}), 11, 20'000);
+  EXPECT_EQ(out.status, TrialStatus::node_cap);
+  EXPECT_EQ(out.counters.nodes, 20'000);
   EXPECT_FALSE(out.trajectory);
   EXPECT_EQ(out.metrics.at("seeds_planted").get<int>(), 7);
+  const int restarts = out.metrics.at("restarts").get<int>();
+  EXPECT_GT(restarts, 0);
+  EXPECT_EQ(out.metrics.at("trees").get<int>(), 7 + restarts);
+  EXPECT_EQ(out.metrics.at("nodes_per_tree").size(), static_cast<std::size_t>(7 + restarts));
   EXPECT_EQ(out.metrics.at("winning_seed").get<int>(), -1);
+  EXPECT_EQ(out.metrics.at("terminated_coverage").get<int>(), 0);
+  EXPECT_GE(out.metrics.at("terminated_growth").get<int>(), 7 + restarts - 3);  // at most 3 still active
   EXPECT_DOUBLE_EQ(out.metrics.at("dispersion_final").get<double>(), 0.125);
   const NamedSeries* mu = series(out, "dispersion");
   ASSERT_NE(mu, nullptr);
-  ASSERT_EQ(mu->points.size(), 7u);
+  ASSERT_EQ(mu->points.size(), 7u);  // restarts plant no seed
   for (std::size_t i = 1; i < mu->points.size(); ++i) {
     EXPECT_LE(mu->points[i].second, mu->points[i - 1].second);
     EXPECT_GT(mu->points[i].first, mu->points[i - 1].first);  // against the forest's nodes
   }
   EXPECT_GT(mu->points[5].second, 0.2);  // planting stopped exactly when µ <= µ̄
-  // Every tree ended by growth (D(T) stays above c̄ = 0.05: at most half the box is reachable).
-  EXPECT_EQ(out.metrics.at("terminated_growth").get<int>(), 7);
+  // The planted trees ended by growth (D(T) stays above c̄ = 0.05: at most half the box is reachable).
   double largest = 0.0;
   for (int i = 0; i < 7; ++i) {
     const NamedSeries* g = series(out, "growth/tree" + std::to_string(i));
@@ -240,6 +250,7 @@ TEST(rrft, UnreachableEverywhereEndsNotFoundOnceSeedsAreDispersed) {
     EXPECT_LT(c->points.back().second, c->points.front().second) << i;  // D(T) falls as T grows
   }
   EXPECT_GT(largest, 0.05);  // the trees did grow before they ended
+  EXPECT_NE(series(out, "coverage/tree" + std::to_string(7 + restarts - 1)), nullptr);
 }
 
 TEST(rrft, TreesEndWhenFullyGrown) {
@@ -252,6 +263,7 @@ TEST(rrft, TreesEndWhenFullyGrown) {
   EXPECT_EQ(seeds, 3);  // µ: 1/2, 1/2, 1/4 <= 0.3
   EXPECT_EQ(out.metrics.at("terminated_coverage").get<int>(), seeds);
   EXPECT_EQ(out.metrics.at("terminated_growth").get<int>(), 0);
+  EXPECT_EQ(out.metrics.at("restarts").get<int>(), 0);  // a fully grown seed is never restarted
   for (int i = 0; i < seeds; ++i) {
     const NamedSeries* c = series(out, "coverage/tree" + std::to_string(i));
     ASSERT_NE(c, nullptr);
@@ -290,7 +302,7 @@ TEST(rrft, SameOutcomeAtOneAndTwoThreads) {
   auto run_in = [&](int threads, const System& sys, const Json& options, std::uint64_t seed) {
     PlannerOutcome out;
     tbb::task_arena arena(threads);
-    arena.execute([&] { out = solve(sys, options, seed); });
+    arena.execute([&] { out = solve(sys, options, seed, 20'000); });
     return out;
   };
   {  // falsified after terminations and a planting
@@ -304,53 +316,75 @@ TEST(rrft, SameOutcomeAtOneAndTwoThreads) {
     const PlannerOutcome c = run_in(2, *sys, options, 100);
     EXPECT_NE(c.counters.propagations, a.counters.propagations);
   }
-  {  // not_found: three trees at a time, seven plantings
+  {  // three trees at a time, seven plantings, then restarts until the node cap
     auto sys = ramp(2.5);
     const Json options = rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}});
     const PlannerOutcome a = run_in(1, *sys, options, 5), b = run_in(2, *sys, options, 5);
-    ASSERT_EQ(a.status, TrialStatus::not_found);
+    ASSERT_EQ(a.status, TrialStatus::node_cap);
+    EXPECT_GT(a.metrics.at("restarts").get<int>(), 0);
     expect_same(*sys, a, b);
   }
 }
 
+std::uint64_t fnv(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char ch : s) h = (h ^ ch) * 1099511628211ULL;
+  return h;
+}
+
+// The hash of the series of trees [0, trees) and of the dispersion (the last series).
+std::uint64_t series_hash(const PlannerOutcome& out, std::size_t trees) {
+  std::string series;
+  for (std::size_t i = 0; i < 2 * trees; ++i) series += Json(out.series.at(i).points).dump();
+  return fnv(series + Json(out.series.back().points).dump());
+}
+
+// The metrics are hashed without `restarts`, which the pins predate, and it is pinned apart.
 std::string fingerprint(const System& sys, const PlannerOutcome& out) {
-  auto fnv = [](const std::string& s) {
-    std::uint64_t h = 1469598103934665603ULL;
-    for (unsigned char ch : s) h = (h ^ ch) * 1099511628211ULL;
-    return h;
-  };
   std::string series;
   for (const auto& s : out.series) series += Json(s.points).dump();
   const std::string w = out.trajectory ? to_json(make_witness(sys, "rrft", 0, *out.trajectory)).dump() : "";
-  return fmt::format("{} {} {} {} {:016x} {:016x} {:016x}", to_string(out.status), out.counters.nodes,
-                     out.counters.propagations, out.counters.integration_steps, fnv(w), fnv(out.metrics.dump()),
-                     fnv(series));
+  Json metrics = out.metrics;
+  metrics.erase("restarts");
+  return fmt::format("{} {} {} {} {:016x} {:016x} {:016x} restarts={}", to_string(out.status), out.counters.nodes,
+                     out.counters.propagations, out.counters.integration_steps, fnv(w), fnv(metrics.dump()),
+                     fnv(series), out.metrics.at("restarts").get<int>());
 }
 
 // batch = 1 is RRFT as it was before the batch option and before run-ahead, bit for bit (issue
 // 12): fingerprints recorded from the lockstep code. Run in arenas of 1, 2 and 4 threads, so
 // that trees run ahead of their barriers in different interleavings (4 threads on fewer cores
 // preempt tasks mid-round); one of the cases ends with trees past the winning round.
+// Issue 27: the third case used to end not_found at 8,001 nodes, when its seventh and last seed's
+// tree stopped growing; it now restarts trees until the node cap, and up to 8,001 nodes it is
+// the pinned search (its seven planted trees and the dispersion hash as they did then).
 TEST(rrft, BatchOneReproducesThePinnedResults) {
   auto reach = ramp(1.2), unreachable = ramp(2.5);
-  // status nodes propagations integration_steps hash(witness) hash(metrics) hash(series)
+  // status nodes propagations integration_steps hash(witness) hash(metrics) hash(series) restarts
   const std::vector<std::string> pinned = {
-      "falsified 1255 4275 4275 fc785ec4159d223d a2d5181aba52f2ab b698ae3eef250407",
-      "falsified 803 2694 2694 771a5de779f09123 198d5b7814e19bd8 b91a966154253692",
-      "not_found 8001 26700 26700 14650fb0739d0383 0ec74f4d47c904db c072e950a2d443cf",
-      "node_cap 777 2535 2535 14650fb0739d0383 a83a30b62afd87bd b565a73614c1d722",
+      "falsified 1255 4275 4275 fc785ec4159d223d a2d5181aba52f2ab b698ae3eef250407 restarts=0",
+      "falsified 803 2694 2694 771a5de779f09123 198d5b7814e19bd8 b91a966154253692 restarts=0",
+      "node_cap 20000 67248 67248 14650fb0739d0383 581eb10f9143f86f aa6921dbd1e5b417 restarts=19",
+      "node_cap 777 2535 2535 14650fb0739d0383 a83a30b62afd87bd b565a73614c1d722 restarts=0",
   };
   for (int threads : {1, 2, 4}) {
     std::vector<std::string> got;
+    std::uint64_t planted_series = 0;
+    std::int64_t planted_nodes = 0;
     tbb::task_arena arena(threads);
     arena.execute([&] {
       got.push_back(fingerprint(*reach, solve(*reach, rrft_options({{"n_t", "2"}, {"K", "7"}}), 99)));
       got.push_back(fingerprint(*reach, solve(*reach, rrft_options({{"n_t", "2"}}), 3)));
-      got.push_back(fingerprint(*unreachable, solve(*unreachable, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}), 5)));
+      const PlannerOutcome restarted = solve(*unreachable, rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}}), 5, 20'000);
+      got.push_back(fingerprint(*unreachable, restarted));
+      planted_series = series_hash(restarted, 7);
+      for (int i = 0; i < 7; ++i) planted_nodes += restarted.metrics.at("nodes_per_tree").at(i).get<std::int64_t>();
       got.push_back(
           fingerprint(*unreachable, solve(*unreachable, rrft_options({{"g_min", "0"}, {"c_min", "0"}}), 5, 777)));
     });
     EXPECT_EQ(got, pinned) << threads << " threads";
+    EXPECT_EQ(planted_nodes, 8001) << threads << " threads";
+    EXPECT_EQ(fmt::format("{:016x}", planted_series), "c072e950a2d443cf") << threads << " threads";
   }
 }
 
@@ -373,12 +407,13 @@ TEST(rrft, BatchEightIsTheSameAtOneAndTwoThreads) {
     EXPECT_EQ(fingerprint(*sys, a), fingerprint(*sys, b));
     EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrft", 0, *a.trajectory)).valid);
   }
-  {  // not_found: three trees at a time, seven plantings
+  {  // three trees at a time, seven plantings, then restarts until the node cap
     auto sys = ramp(2.5);
     const Json options = rrft_options({{"n_t", "3"}, {"mu_min", "0.2"}, {"batch", "8"}});
-    const PlannerOutcome a = run_in(1, *sys, options, 5, 1'000'000), b = run_in(2, *sys, options, 5, 1'000'000);
-    ASSERT_EQ(a.status, TrialStatus::not_found);
+    const PlannerOutcome a = run_in(1, *sys, options, 5, 20'000), b = run_in(2, *sys, options, 5, 20'000);
+    ASSERT_EQ(a.status, TrialStatus::node_cap);
     EXPECT_EQ(a.metrics.at("seeds_planted").get<int>(), 7);
+    EXPECT_GT(a.metrics.at("restarts").get<int>(), 0);
     expect_same(*sys, a, b);
   }
   {  // the node cap stays exact with quotas applied at the commits
@@ -436,18 +471,90 @@ TEST(rrft, AStalledOnlyTreeResumesUntilItFalsifies) {
   EXPECT_GE(stalls, 6);  // the case the test is about did happen
 }
 
-// With a searched P, stalled trees wait while new seeds are planted, then resume: the search
-// ends not_found only once every tree is concluded by g(T) or c(T) and µ(P̄) <= µ̄.
+// With a searched P, stalled trees wait while new seeds are planted, then resume; once P̄ is
+// dispersed and every seed's tree stopped growing, restarts take over (the unsafe set is
+// unreachable and no tree can be fully grown, so the node cap ends the search).
 TEST(rrft, StalledTreesResumeOnceTheSeedsAreDispersed) {
   auto sys = std::make_shared<ModelSystem<ParamRamp>>(ParamRamp{2.5}, stalling_ramp_info(2.5));
-  // µ̄ = 0.3: the seeds 1/2, 1/4, 3/4 (µ = 1/4 after three); the unsafe set is unreachable, so
-  // every tree ends by growth in the end (not_found); window = 3 makes trees stall on the way.
-  const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "1"}, {"window", "3"}, {"mu_min", "0.3"}}), 4);
-  EXPECT_EQ(out.status, TrialStatus::not_found) << out.metrics.dump();
+  // µ̄ = 0.3: the seeds 1/2, 1/4, 3/4 (µ = 1/4 after three); window = 3 makes trees stall on the way.
+  const PlannerOutcome out = solve(*sys, rrft_options({{"n_t", "1"}, {"window", "3"}, {"mu_min", "0.3"}}), 4, 5'000);
+  EXPECT_EQ(out.status, TrialStatus::node_cap) << out.metrics.dump();
   EXPECT_EQ(out.metrics.at("seeds_planted").get<int>(), 3);
   EXPECT_GE(out.metrics.at("terminated_stalled").get<int>(), 1) << out.metrics.dump();
-  EXPECT_EQ(out.metrics.at("terminated_growth").get<int>() + out.metrics.at("terminated_coverage").get<int>(), 3)
-      << out.metrics.dump();
+  EXPECT_EQ(out.metrics.at("terminated_coverage").get<int>(), 0) << out.metrics.dump();
+  EXPECT_GE(out.metrics.at("terminated_growth").get<int>(), 3) << out.metrics.dump();
+  EXPECT_GE(out.metrics.at("restarts").get<int>(), 1) << out.metrics.dump();
+}
+
+// Issue 27: the growth stop ends a tree, not the search. The ramp with P = {0.8} (one seed, the
+// unsafe set x >= 1.2 reachable only with u = 1 on most of t <= 2), window = 20 and g_min = 2: a
+// tree concludes by growth as soon as its last 20 nodes gained on average less than 2 grid
+// points each, long before it reaches x >= 1.2. Before the fix the trial ended not_found when
+// its only tree stopped growing; now the slot goes to restarts at the one seed, with fresh
+// streams, until a tree reaches the unsafe set.
+TEST(rrft, AGrowthConcludedOnlyTreeRestartsUntilItFalsifies) {
+  SystemInfo info = ramp_info(1.2);
+  info.parameter_box = {{0.8}, {0.8}};
+  info.parameters = {0.8};
+  auto sys = std::make_shared<ModelSystem<ParamRamp>>(ParamRamp{1.2}, std::move(info));
+  const Json options = rrft_options({{"window", "20"}, {"g_min", "2"}});
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const PlannerOutcome out = solve(*sys, options, seed, 200'000);
+    ASSERT_EQ(out.status, TrialStatus::falsified) << "seed " << seed << ": " << out.metrics.dump();
+    const int restarts = out.metrics.at("restarts").get<int>();
+    EXPECT_GT(restarts, 0) << "seed " << seed;  // the case the test is about did happen
+    EXPECT_EQ(out.metrics.at("terminated_growth").get<int>(), restarts) << "seed " << seed;
+    EXPECT_EQ(out.metrics.at("seeds_planted").get<int>(), 1);
+    EXPECT_EQ(out.metrics.at("trees").get<int>(), 1 + restarts);
+    EXPECT_EQ(out.metrics.at("winning_seed").get<int>(), 0);  // the seed, whichever tree won
+    EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrft", 0, *out.trajectory)).valid);
+    EXPECT_GE(out.trajectory->final_x[0], 1.2 - 1e-9);
+  }
+}
+
+// A genuinely safe system whose whole sampling box is reachable: x' = u, u in {-1, 0, 1}² on
+// the unit square from its centre, steps of 0.1 on the coverage grid's spacing, so every node
+// lies on a grid point and one tree can cover them all. Its tree is fully grown (D(T) <= c̄)
+// before it stops growing, the one seed is covered and is never restarted: the search ends
+// not_found by the coverage criterion, long before the node cap, with the default thresholds.
+struct GridWalk {
+  InputSet U = InputSet::grid({{-1.0, -1.0}, {1.0, 1.0}}, 3);
+  int dim() const { return 2; }
+  void flow(Mode, const double*, const double* u, const double*, double* dx) const {
+    dx[0] = u[0];
+    dx[1] = u[1];
+  }
+  bool valid_mode(Mode q) const { return q == 0; }
+  int guard_count(Mode) const { return 0; }
+  double guard(Mode, int, const double*, const double*) const { return 1.0; }
+  Mode jump(Mode q, int, double*, const double*) const { return q; }
+  bool invariant(Mode, const double* x, const double*) const {
+    return x[0] >= -1e-9 && x[0] <= 1.0 + 1e-9 && x[1] >= -1e-9 && x[1] <= 1.0 + 1e-9;
+  }
+  double spec(Mode, const double*, const double*) const { return 1.0; }  // never unsafe
+  const InputSet& inputs(Mode) const { return U; }
+};
+
+TEST(rrft, ACoveredSafeSystemEndsNotFound) {
+  SystemInfo info = ramp_info(1.0);
+  info.suite = "grid-walk-test";
+  info.instance = Json::object();
+  info.state_names = {"x", "y"};
+  info.input_names = {"u", "v"};
+  info.parameter_names = {};
+  info.parameter_box = {};
+  info.parameters = {};
+  info.initial_state = {0.5, 0.5};
+  info.sampling_box = {{0.0, 0.0}, {1.0, 1.0}};
+  info.coverage = {{}, info.sampling_box, 0.1};
+  auto sys = std::make_shared<ModelSystem<GridWalk>>(GridWalk{}, std::move(info));
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const PlannerOutcome out = solve(*sys, rrft_options(), seed, 100'000);
+    EXPECT_EQ(out.status, TrialStatus::not_found) << "seed " << seed << ": " << out.metrics.dump();
+    EXPECT_EQ(out.metrics.at("terminated_coverage").get<int>(), 1) << "seed " << seed;
+    EXPECT_EQ(out.metrics.at("restarts").get<int>(), 0) << "seed " << seed;
+    EXPECT_LT(out.counters.nodes, 1'000) << "seed " << seed;
+  }
 }
 
 TEST(rrft, TrialEngineValidatesTheWitness) {

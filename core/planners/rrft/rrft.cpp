@@ -71,21 +71,41 @@
 // gained per NODE, and a tree that adds no node says nothing about it (a tree of 12 nodes whose
 // nearest node to most samples is a dead end stalls, though its reachable set is barely
 // explored; rrt, with the same extension step, goes on and falsifies). So a stalled tree is not
-// concluded: it gives up its slot and is parked with its nodes, its stream and its series. A
-// free slot goes first to a new seed while Alg. 3 plants one (µ(P̄) > µ̄, fewer than max_seeds),
-// else to the parked tree that has waited longest, which resumes where it stopped (failed
-// streak reset) and may stall and be parked again. A tree is concluded only by g(T) or c(T), so
-// the search ends not_found only by the paper's own criterion: no tree active and none parked,
-// i.e. every seed's tree stopped growing or is fully grown, and P̄ is dispersed (µ(P̄) <= µ̄) or
-// max_seeds are planted. Otherwise it runs until falsified or the budget (timeout, node_cap);
-// with a 0-dimensional P the one tree resumes at once, so a stall never ends the search.
+// concluded: it gives up its slot and is parked with its nodes, its stream and its series, and
+// resumes where it stopped (failed streak reset) when it gets a slot again.
+//
+// Restarts (issue 27). The growth stop (n_g·g(T) <= g_min) ends a TREE, not the search: it says
+// that this tree's nodes now mostly refine what it already reached, not that nothing reachable
+// from its seed is unsafe (with a 0-dimensional P, or once P̄ is dispersed, Alg. 3 plants no new
+// seed, and a forest whose trees all stopped growing used to end not_found after a few hundred
+// nodes where rrt and hydice falsify). A free slot goes, in this order, to
+//   plant    a new Halton seed, while Alg. 3 plants one (µ(P̄) > µ̄, fewer than max_seeds);
+//   resume   the parked (stalled) tree that has waited longest;
+//   restart  a new tree at a seed already in P̄, grown from (x0, q0) with a fresh stream derived
+//            from the trial seed and the restart count only (so results do not depend on the
+//            thread count or on batch timing). Its seed: among the seeds whose trees all
+//            stopped growing (none fully grown, none active or parked), the one whose trees
+//            hold the fewest nodes so far, ties by the lowest index, so restarts spread over
+//            the least explored seeds. A 0-dimensional P restarts its one seed. A restarted
+//            tree is a tree like any other (series tree<i>, nodes_per_tree, its own
+//            termination test); winning_seed names its seed in P̄, not the tree.
+// Coverage is the search's completeness criterion: a seed whose tree is fully grown (D(T) <=
+// c_min) is never restarted, and the search ends not_found only when no tree is active or
+// parked and nothing may be planted or restarted: P̄ dispersed (µ(P̄) <= µ̄) or max_seeds planted,
+// and every seed's reachable set covered by one of its trees. Otherwise it runs until falsified
+// or the budget (timeout, node_cap; a planting or restart refused by the node cap ends it
+// node_cap). With the default thresholds a tree rarely ends fully grown: on navigation,
+// aircraft (random, N = 10) and thermostat the trees stopped growing at D(T) = 0.6-0.99, the
+// sampling boxes being mostly unreachable or far larger than a few hundred nodes cover. So in
+// practice RRFT, like rrt, runs until it falsifies or its budget ends; not_found needs a
+// reachable set its trees can cover (test_rrft's grid walk ends not_found after one tree).
 //
 // Planting. After the terminations of a round, while fewer than n_t trees are active, fewer than
 // max_seeds were planted, the node cap is not reached and µ(P̄) > µ̄, the next Halton point is
 // appended to P̄ and a tree is planted there (Alg. 3: one new tree per terminated one). µ(P̄) is the
 // dispersion of eq. (2) over P in normalized coordinates divided by µ_max = the diameter of the
-// normalized box (so µ in [0, 1]; exact for a 1-D P). The search ends falsified, not_found (no
-// tree active or parked), timeout or node_cap (over the total nodes of the forest).
+// normalized box (so µ in [0, 1]; exact for a 1-D P). The search ends falsified, not_found (the
+// coverage criterion above), timeout or node_cap (over the total nodes of the forest).
 //
 // Defaults (for the papers' examples: P of 1-3 dimensions, grids of 10^3-10^6 points):
 //   n_t = 4      maximum active trees: the paper plants 3 initial seeds for 5 aircraft, and
@@ -101,9 +121,10 @@
 //   mu_min = 0.1 P is "covered" when no point of P is farther than 10 % of P's diameter from a
 //                seed: 15 seeds for a 1-D P (the paper found its counterexamples at 5 and 8).
 //   max_seeds = 64 a hard cap on the trees of one trial, whatever the dimension of P.
-// Recorded: metrics seeds_planted (= trees), nodes_per_tree, winning_seed (-1: none),
-// winning_parameter, dispersion_final, terminated_growth / _coverage, terminated_stalled (stalls:
-// times a tree was parked, several per tree possible), rounds; series
+// Recorded: metrics seeds_planted (|P̄|), trees (planted and restarted), restarts,
+// nodes_per_tree, winning_seed (its index in P̄; -1: none), winning_parameter, dispersion_final,
+// terminated_growth / _coverage, terminated_stalled (stalls: times a tree was parked, several per
+// tree possible), rounds; series
 // coverage/tree<i> (D(T), i.e. seed 003's c(T), against the tree's nodes), growth/tree<i>
 // (n_g·g(T) against the tree's nodes), dispersion (µ(P̄) against the forest's total nodes, one
 // point per planting); counters over the whole forest.
@@ -202,15 +223,16 @@ struct RrftSlot {
 // One tree of the forest, T_{p_i}. Touched by one task at a time (its round), else by the
 // coordinating thread at the barriers.
 struct ForestTree {
-  ForestTree(const System& sys, const WeightedEuclidean& metric, std::size_t index_, std::vector<double> p_,
-             std::uint64_t trial_seed)
+  ForestTree(const System& sys, const WeightedEuclidean& metric, std::size_t index_, std::size_t seed_,
+             std::vector<double> p_, std::uint64_t stream_seed_)
       : index(index_),
+        seed(seed_),
         p(std::move(p_)),
         nodes(sys.info().dim(), sys.info().input_names.size()),
         nn(std::in_place, metric),
         prop(sys.make_propagator()),
         step(sys, metric),
-        stream_seed(splitmix64(splitmix64(trial_seed) ^ splitmix64(0x52524654'00000000ULL + index_))),
+        stream_seed(stream_seed_),
         rng(stream_seed),
         grid(std::in_place, sys.info().coverage, sys.info().dim()),
         coverage_series{fmt::format("coverage/tree{}", index_), {}},
@@ -220,7 +242,8 @@ struct ForestTree {
     x_rand.resize(info.dim());
   }
 
-  std::size_t index;
+  std::size_t index;  // in planting order, restarts included: series tree<index>, nodes_per_tree
+  std::size_t seed;   // its seed's index in P̄ (= index for a planted tree)
   std::vector<double> p;
   NodeStore nodes;
   std::optional<NearestNeighbors> nn;  // released when the tree ends
@@ -349,11 +372,29 @@ class ForestSearch {
     t.finished.push_back(e);
   }
 
-  // A new tree at the next seed of P̄ (the suite's parameters when P is not searched).
+  // Alg. 3's planting: a new tree at the next seed of P̄ (the suite's parameters when P is not
+  // searched), with the seed's own stream.
   void plant() {
     std::vector<double> p = searched_ ? halton_.next() : std::vector<double>(ctx_.parameters.begin(), ctx_.parameters.end());
-    seeds_.push_back(p);
-    auto t = std::make_unique<ForestTree>(sys_, metric_, trees_.size(), std::move(p), ctx_.seed);
+    seeds_.push_back(std::move(p));
+    const std::size_t seed = seeds_.size() - 1;
+    add_tree(seed, stream_seed(0x52524654'00000000ULL + seed));  // "RRFT"
+    mu_ = searched_ ? dispersion(seeds_, info_.parameter_box) : 0.0;
+    dispersion_series_.points.emplace_back(static_cast<double>(total_.nodes), mu_);
+  }
+
+  // A restart (see "Restarts" in the header): a new tree at seed s of P̄, from the initial state,
+  // with a fresh stream of the trial seed and the restart count (never of a thread).
+  void restart(std::size_t s) {
+    ++restarts_;
+    add_tree(s, stream_seed(0x52455354'00000000ULL + static_cast<std::uint64_t>(restarts_)));  // "REST"
+  }
+
+  std::uint64_t stream_seed(std::uint64_t salt) const { return splitmix64(splitmix64(ctx_.seed) ^ splitmix64(salt)); }
+
+  // A new active tree at seed s, rooted at (x0, q0); its first round is the one after this barrier.
+  void add_tree(std::size_t s, std::uint64_t stream) {
+    auto t = std::make_unique<ForestTree>(sys_, metric_, trees_.size(), s, seeds_[s], stream);
     t->prop->set_interrupt(budget_.interrupt());  // a propagation past the deadline ends as rejected
     const NodeId root = t->nodes.add(kNoNode, info_.initial_mode, info_.initial_mode, info_.initial_state, {}, 0.0, -1);
     t->nn->add(root, info_.initial_state);
@@ -367,8 +408,26 @@ class ForestSearch {
     active_.push_back(t.get());
     trees_.push_back(std::move(t));
     recount();
-    mu_ = searched_ ? dispersion(seeds_, info_.parameter_box) : 0.0;
-    dispersion_series_.points.emplace_back(static_cast<double>(total_.nodes), mu_);
+  }
+
+  // Alg. 3 plants another seed: P̄ is not dispersed enough and fewer than max_seeds are planted.
+  bool may_plant() const { return searched_ && seeds_.size() < max_seeds_ && mu_ > o_.mu_min; }
+
+  // The seed a restart goes to: of the seeds whose trees all concluded, none of them fully
+  // grown, the one whose trees hold the fewest nodes so far (ties: the lowest index), so that
+  // restarts spread over the seeds whose reachable sets are least explored. None when every
+  // idle seed was covered by a fully grown tree (with no tree growing: the search is complete).
+  std::optional<std::size_t> restart_seed() const {
+    std::vector<std::int64_t> nodes(seeds_.size(), 0);
+    std::vector<bool> excluded(seeds_.size(), false);  // covered, or a tree still grows there
+    for (const auto& t : trees_) {
+      nodes[t->seed] += t->at_barrier.counters.nodes;
+      if (t->end != TreeEnd::growth) excluded[t->seed] = true;  // coverage, active or parked
+    }
+    std::optional<std::size_t> best;
+    for (std::size_t s = 0; s < seeds_.size(); ++s)
+      if (!excluded[s] && (!best || nodes[s] < nodes[*best])) best = s;
+    return best;
   }
 
   // The end checks, in seed order: found? (lowest seed index wins), no tree left, the budget.
@@ -379,8 +438,9 @@ class ForestSearch {
         out_.status = TrialStatus::falsified;
         return true;
       }
-    if (active_.empty()) {
-      out_.status = TrialStatus::not_found;
+    if (active_.empty()) {  // the search is complete, or the node cap stopped a planting or restart
+      const bool complete = !may_plant() && !restart_seed();
+      out_.status = complete ? TrialStatus::not_found : TrialStatus::node_cap;
       return true;
     }
     if (auto why = budget_.exhausted(total_.nodes)) {
@@ -424,14 +484,19 @@ class ForestSearch {
   }
 
   // The free slots, in this order: a new seed while P̄ is not dispersed enough (Alg. 3), else
-  // the stalled tree that has waited longest resumes (see "Stalls" in the header).
+  // the stalled tree that has waited longest resumes, else a restart at the least explored seed
+  // not yet covered (see "Stalls" and "Restarts" in the header).
   void refill_slots() {
     while (active_.size() < max_active_) {
-      if (searched_ && trees_.size() < max_seeds_ && mu_ > o_.mu_min && total_.nodes < ctx_.limits.max_nodes) {
+      const bool room = total_.nodes < ctx_.limits.max_nodes;
+      std::optional<std::size_t> s;
+      if (may_plant() && room) {
         plant();
       } else if (!parked_.empty()) {
         resume(parked_.front());
         parked_.pop_front();
+      } else if (room && (s = restart_seed())) {
+        restart(*s);
       } else {
         break;
       }
@@ -559,10 +624,11 @@ class ForestSearch {
       out_.series.push_back(std::move(t->growth_series));
     }
     out_.series.push_back(std::move(dispersion_series_));
-    out_.metrics["seeds_planted"] = trees_.size();
-    out_.metrics["trees"] = trees_.size();
+    out_.metrics["seeds_planted"] = seeds_.size();
+    out_.metrics["trees"] = trees_.size();  // planted and restarted
+    out_.metrics["restarts"] = restarts_;
     out_.metrics["nodes_per_tree"] = per_tree;
-    out_.metrics["winning_seed"] = winner_ ? static_cast<std::int64_t>(winner_->index) : std::int64_t{-1};
+    out_.metrics["winning_seed"] = winner_ ? static_cast<std::int64_t>(winner_->seed) : std::int64_t{-1};
     out_.metrics["winning_parameter"] = winner_ ? Json(winner_->p) : Json(nullptr);
     // Each coordinate also as a scalar (p0, p1, ...), so tables can average it over trials.
     if (winner_)
@@ -700,6 +766,7 @@ class ForestSearch {
   std::int64_t ahead_ = 0;    // run-ahead: rounds past (barrier + 1) a tree may start
   ForestTree* winner_ = nullptr;
   std::int64_t terminated_[4] = {0, 0, 0, 0};
+  std::int64_t restarts_ = 0;
   bool done_ = false;
   std::mutex mutex_;  // run-ahead: the tasks' hand-offs (visible to ThreadSanitizer)
 };
@@ -721,7 +788,8 @@ class Rrft final : public Planner {
 MethodEntry rrft_method() {
   return {"rrft",
           "RRFT of seed 003 (Alg. 3): a forest of RRTs, one per Halton seed p in P, grown in parallel; "
-          "trees end on growth/coverage and are replaced while the seeds' dispersion is above mu_min",
+          "a tree ends on growth/coverage and is replaced by a new seed while the seeds' dispersion is above mu_min, "
+          "else by a restart at a seed whose trees all stopped growing (not_found only when every seed is covered)",
           {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
            {"K", 10, "extension attempts per active tree per round at batch = 1 (K = 1: the interleaving of Alg. 3; batch B > 1: B slots per tree per round)", "[1, 100000]"},
            {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},

@@ -5,7 +5,8 @@ namespace hyfal {
 
 // RRFT, the Rapidly-exploring Random Forest of Trees of seed 003 (Alg. 3): one RRT per seed
 // p in P̄ (a Halton sequence over P), trees terminated on growth or coverage and replaced while
-// the seeds' dispersion µ(P̄) is above µ̄. See rrft.cpp for the conventions and defaults.
+// the seeds' dispersion µ(P̄) is above µ̄, then restarted at seeds not yet covered (issue 27).
+// See rrft.cpp for the conventions, the restart rule and the defaults.
 MethodEntry rrft_method();
 
 }  // namespace hyfal
