@@ -95,15 +95,7 @@ int cmd_run_experiment(const ExperimentArgs& a) {
   check_output_path(a.witness_dir, "--witness-dir");
   check_output_path(a.out_dir, "--out-dir");
   const ExperimentFile e = load_experiment_file(read_input_file(a.file), a.file);
-  RunOptions options;
-  options.threads = a.threads;
-  options.db = a.db;
-  options.witness_dir = a.witness_dir;
-  options.shard = shard_option(a.shard);
-  options.plan = a.plan;
-  options.progress = !a.quiet && isatty(STDERR_FILENO);
-  options.quiet = a.quiet;
-  options.save_trees = a.save_trees;
+  const RunOptions options = run_options_of(a);
   check_directory_creatable(a.out_dir, "--out-dir");
   check_directory_creatable(a.witness_dir, "--witness-dir");
 

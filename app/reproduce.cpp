@@ -56,18 +56,6 @@ const TableProfile& profile_of(const PaperTable& table, const std::string& name)
   throw UsageError(fmt::format("--profile {}: expected smoke, quick, full or paper", name));
 }
 
-RunOptions run_options(const ReproduceArgs& a) {
-  RunOptions o;
-  o.threads = a.threads;
-  o.db = a.db;
-  o.witness_dir = a.witness_dir;
-  o.shard = shard_option(a.shard);
-  o.plan = a.plan;
-  o.save_trees = a.save_trees;
-  o.progress = isatty(STDERR_FILENO) != 0;
-  return o;
-}
-
 // A shard's table holds only what its database holds: until the shards are merged, a partial one.
 void print_shard_note(const ReproduceArgs& a) {
   if (a.shard.empty()) return;
@@ -158,7 +146,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
       blocks, std::vector<std::vector<std::vector<TrialRecord>>>(table.rows.size(),
                                                                  std::vector<std::vector<TrialRecord>>(cols)));
   const std::string what = fmt::format("table {} --profile {}", table.id, a.profile);
-  RunOptions options = run_options(a);
+  RunOptions options = run_options_of(a);
   // Column waves (skip_after_all_stopped): a row's column runs only while every earlier column of
   // the row had a trial that was not stopped. A shard cannot know the other shards' outcomes, and
   // --plan sizes the whole table, so both take every cell.
@@ -276,7 +264,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
   std::vector<const TrialGroup*> ordered;
   for (const TrialGroup& g : groups) ordered.push_back(&g);
   auto run_info =
-      run_groups(fmt::format("table {} --profile {}", table->id, a.profile), ordered, run_options(a));
+      run_groups(fmt::format("table {} --profile {}", table->id, a.profile), ordered, run_options_of(a));
   if (!run_info) return 0;  // --plan
   const EngineOptions& eo = run_info->engine;
   const std::vector<std::vector<TrialRecord>>& rows_trials = run_info->trials;

@@ -2,6 +2,7 @@
 // groups, everything checked before anything is written), plan (--plan), run (trials the store
 // lacks, on this process or an MPI job's ranks), store, and hand the stored trials to a report.
 #pragma once
+#include <unistd.h>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -119,6 +120,23 @@ struct RunOptions {
   bool quiet = false;     // no "resuming" note
   bool save_trees = false;  // --save-trees: each witness's search tree(s) beside it (EngineOptions)
 };
+
+// RunOptions from a command's parsed arguments (ExperimentArgs, ReproduceArgs): the options they
+// share, under the same names; `quiet` where the command has it (it also turns off the progress
+// line). Shard strings must have been checked (shard_option).
+template <class Args>
+RunOptions run_options_of(const Args& a) {
+  RunOptions o;
+  o.threads = a.threads;
+  o.db = a.db;
+  o.witness_dir = a.witness_dir;
+  o.shard = shard_option(a.shard);
+  o.plan = a.plan;
+  o.save_trees = a.save_trees;
+  if constexpr (requires { a.quiet; }) o.quiet = a.quiet;
+  o.progress = !o.quiet && isatty(STDERR_FILENO) != 0;
+  return o;
+}
 
 // What run_groups ran and stored.
 struct GroupsRun {

@@ -21,7 +21,10 @@
 //    the relative velocity), 0 where there is nothing to watch. Guards are tested at step ends;
 //    a band crossed, or a disc grazed, entirely inside one step leaves g_k <= 0 at both ends.
 //    When guard_peak changes sign within a step, the integrator locates its zero, evaluates g_k
-//    there and, if it is > 0, localizes the transition before it as usual.
+//    there and, if it is > 0, localizes the transition before it as usual. With it, `double
+//    guard_step_change(q, k)`: a bound on how much g_k can change within one integration step
+//    (+inf: none known); where g_k is below minus that bound at a step end, no peak above 0 can
+//    lie in a step that ends or starts there, and guard_peak is not evaluated.
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the

@@ -84,7 +84,7 @@ class ModelPropagator final : public Propagator {
     }
     for (int k = 0; k < nk; ++k) {
       g0_[k] = model_.guard(q, k, x0_.data(), pp);
-      if constexpr (kGuardPeaks) h0_[k] = model_.guard_peak(q, k, x0_.data(), u.data(), pp);
+      if constexpr (kGuardPeaks) h0_[k] = peak_at(q, k, g0_[k], x0_.data(), u.data(), pp);
       if (g0_[k] > 0.0) {
         r.mode = model_.jump(q, k, x0_.data(), pp);
         r.transition = k;
@@ -162,8 +162,9 @@ class ModelPropagator final : public Propagator {
           tk = locate(field, t, t1, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
                       g0_[k], g1_[k]).first;
         } else if constexpr (kGuardPeaks) {
-          h1_[k] = model_.guard_peak(q, k, x1_.data(), u.data(), pp);
-          tk = crossed_inside_step(field, q, k, t, t1, u.data(), pp);
+          h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u.data(), pp);
+          if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
+            tk = crossed_inside_step(field, q, k, t, t1, u.data(), pp);
         }
         if (tk < event_t) {  // strict: the spec, then lower k, win ties
           event_t = tk;
@@ -232,11 +233,13 @@ class ModelPropagator final : public Propagator {
   static constexpr bool kSpecSign = requires(const M m, Mode q, const double* x, const double* p) {
     { m.outside_unsafe(q, x, p) } -> std::same_as<bool>;
   };
-  // M::guard_peak(q, k, x, u, p): an optional member (model.hpp) whose sign change marks where
-  // guard k peaks inside a step, so a band or disc crossed between two step ends is not missed.
+  // M::guard_peak(q, k, x, u, p) and M::guard_step_change(q, k): optional members (model.hpp);
+  // the sign change of the first marks where guard k peaks inside a step, so a band or disc
+  // crossed between two step ends is not missed.
   static constexpr bool kGuardPeaks =
       requires(const M m, Mode q, int k, const double* x, const double* u, const double* p) {
         { m.guard_peak(q, k, x, u, p) } -> std::convertible_to<double>;
+        { m.guard_step_change(q, k) } -> std::convertible_to<double>;
       };
   static constexpr int kNoEvent = -2;
   static constexpr int kSpecEvent = -1;
@@ -281,14 +284,20 @@ class ModelPropagator final : public Propagator {
     return bracket;
   }
 
-  // Guard k was <= 0 at both ends of the step [t, t1]; if its peak function changed sign in
-  // between, the guard may have turned > 0 and back inside the step (a band crossed, a disc
+  // The peak function of guard k at a step end where the guard's value is g; 0 (nothing to
+  // watch) when g is so low that the guard cannot rise above 0 within one step from or to here.
+  double peak_at(Mode q, int k, double g, const double* x, const double* u, const double* pp) const {
+    if (g < -model_.guard_step_change(q, k)) return 0.0;
+    return model_.guard_peak(q, k, x, u, pp);
+  }
+
+  // Guard k was <= 0 at both ends of the step [t, t1] and its peak function changed sign in
+  // between: the guard may have turned > 0 and back inside the step (a band crossed, a disc
   // grazed). Locates the peak, and when the guard is > 0 there, the earliest time before it
   // where it turns > 0: the event time. +inf when the guard stayed off.
   double crossed_inside_step(const FlowField& field, Mode q, int k, double t, double t1,
                              const double* u, const double* pp) {
     const double h0 = h0_[k], h1 = h1_[k];
-    if (!((h0 < 0.0 && h1 > 0.0) || (h0 > 0.0 && h1 < 0.0))) return std::numeric_limits<double>::infinity();
     const double sign = h0 < 0.0 ? 1.0 : -1.0;  // phi = sign * h rises through 0 at the peak
     const double tm =
         locate(field, t, t1, [&](const State& xs) { return sign * model_.guard_peak(q, k, xs.data(), u, pp); },

@@ -497,6 +497,27 @@ void remove_unused_wal_files(const std::string& path) noexcept {
 }
 
 // Makes a read-write connection ready for use and creates the schema where it is missing.
+// Runs `body` in one transaction (`begin`: "BEGIN" for a consistent read, "BEGIN IMMEDIATE" for
+// a write): committed when it returns (its value is returned), rolled back when it throws.
+template <class Body>
+auto in_transaction(sqlite3* connection, const char* begin, std::string_view begin_error,
+                    std::string_view commit_error, Body&& body) {
+  execute(connection, begin, begin_error);
+  try {
+    if constexpr (std::is_void_v<decltype(body())>) {
+      body();
+      execute(connection, "COMMIT", commit_error);
+    } else {
+      auto result = body();
+      execute(connection, "COMMIT", commit_error);
+      return result;
+    }
+  } catch (...) {
+    sqlite3_exec(connection, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
 void configure(sqlite3* connection, const std::string& path) {
   const auto run = [&](const char* sql) {
     if (sqlite3_exec(connection, sql, nullptr, nullptr, nullptr) != SQLITE_OK)
@@ -701,31 +722,19 @@ TrialStore::Statement TrialStore::prepare(const char* sql) {
 
 std::int64_t TrialStore::insert(const TrialRecord& record) {
   require_writable("insert");
-  execute(connection_.get(), "BEGIN IMMEDIATE",
-          fmt::format("cannot start transaction on results database '{}'", path_));
-  try {
+  return in_transaction(connection_.get(), "BEGIN IMMEDIATE", fmt::format("cannot start transaction on results database '{}'", path_),
+                        fmt::format("cannot commit trial to results database '{}'", path_), [&] {
     const std::int64_t id = store_in_transaction(record);
-    execute(connection_.get(), "COMMIT",
-            fmt::format("cannot commit trial to results database '{}'", path_));
     return id;
-  } catch (...) {
-    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
+  });
 }
 
 void TrialStore::insert_all(const std::vector<TrialRecord>& records) {
   require_writable("insert_all");
-  execute(connection_.get(), "BEGIN IMMEDIATE",
-          fmt::format("cannot start transaction on results database '{}'", path_));
-  try {
+  in_transaction(connection_.get(), "BEGIN IMMEDIATE", fmt::format("cannot start transaction on results database '{}'", path_),
+                        fmt::format("cannot commit {} trials to results database '{}'", records.size(), path_), [&] {
     for (const TrialRecord& record : records) store_in_transaction(record);
-    execute(connection_.get(), "COMMIT",
-            fmt::format("cannot commit {} trials to results database '{}'", records.size(), path_));
-  } catch (...) {
-    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
+  });
 }
 
 std::int64_t TrialStore::store_in_transaction(const TrialRecord& record) {
@@ -745,8 +754,8 @@ std::int64_t TrialStore::store_in_transaction(const TrialRecord& record) {
 
 std::vector<TrialRecord> TrialStore::load_with_series() {
   // A read transaction on this connection: a writer committing meanwhile is not seen half-way.
-  execute(connection_.get(), "BEGIN", fmt::format("cannot read results database '{}'", path_));
-  try {
+  return in_transaction(connection_.get(), "BEGIN", fmt::format("cannot read results database '{}'", path_),
+                        fmt::format("cannot read results database '{}'", path_), [&] {
     std::vector<TrialRecord> records = load();
     std::map<std::int64_t, std::size_t> position_of_id;
     {
@@ -770,12 +779,8 @@ std::vector<TrialRecord> TrialStore::load_with_series() {
       if (it == series.end()) it = series.insert(series.end(), {name, {}});
       it->second.emplace_back(use.real(2), use.real(3));
     }
-    execute(connection_.get(), "COMMIT", fmt::format("cannot read results database '{}'", path_));
     return records;
-  } catch (...) {
-    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
+  });
 }
 
 std::int64_t TrialStore::insert_row(const TrialRecord& record) {
@@ -815,17 +820,11 @@ void TrialStore::insert_series(std::int64_t trial_id, const std::string& name,
   require_writable("insert_series");
   // One transaction for all points: a series is stored whole or not at all, and one commit is
   // much cheaper than one per point.
-  execute(connection_.get(), "BEGIN IMMEDIATE",
-          fmt::format("cannot start transaction on results database '{}'", path_));
-  try {
+  in_transaction(connection_.get(), "BEGIN IMMEDIATE", fmt::format("cannot start transaction on results database '{}'", path_),
+                        fmt::format("cannot commit series '{}' of trial {} to results database '{}'", name,
+                        trial_id, path_), [&] {
     insert_points(trial_id, name, points);
-    execute(connection_.get(), "COMMIT",
-            fmt::format("cannot commit series '{}' of trial {} to results database '{}'", name,
-                        trial_id, path_));
-  } catch (...) {
-    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
+  });
 }
 
 void TrialStore::insert_points(std::int64_t trial_id, const std::string& name,
@@ -939,9 +938,8 @@ bool TrialStore::claim(const TrialKey& key, const ClaimOwner& owner) {
   require_writable("claim");
   // One write transaction: two processes claiming the same trial take turns, and the second
   // sees the first one's claim.
-  execute(connection_.get(), "BEGIN IMMEDIATE",
-          fmt::format("cannot start transaction on results database '{}'", path_));
-  try {
+  return in_transaction(connection_.get(), "BEGIN IMMEDIATE", fmt::format("cannot start transaction on results database '{}'", path_),
+                        fmt::format("cannot commit a claim to results database '{}'", path_), [&] {
     bool available = !is_stored(key);
     if (available) {
       StatementUse use(select_claim_.get());
@@ -963,19 +961,15 @@ bool TrialStore::claim(const TrialKey& key, const ClaimOwner& owner) {
       use.bind(11, unix_time_now());
       if (use.step()) throw std::logic_error("an INSERT returned a row");
     }
-    execute(connection_.get(), "COMMIT", fmt::format("cannot commit a claim to results database '{}'", path_));
     return available;
-  } catch (...) {
-    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
+  });
 }
 
 std::vector<TrialProgress> TrialStore::progress(const std::vector<TrialKey>& keys, const ClaimOwner& self) {
   require_writable("progress");  // the claims table is a writer's
   // One read transaction: every answer comes from the same snapshot. It never blocks a writer.
-  execute(connection_.get(), "BEGIN", fmt::format("cannot read results database '{}'", path_));
-  try {
+  return in_transaction(connection_.get(), "BEGIN", fmt::format("cannot read results database '{}'", path_),
+                        fmt::format("cannot read results database '{}'", path_), [&] {
     const double now = unix_time_now();
     std::vector<TrialProgress> states;
     states.reserve(keys.size());
@@ -1004,12 +998,8 @@ std::vector<TrialProgress> TrialStore::progress(const std::vector<TrialKey>& key
         states.push_back(status ? TrialProgress::stored_error : TrialProgress::needs_runner);
       }
     }
-    execute(connection_.get(), "COMMIT", fmt::format("cannot read results database '{}'", path_));
     return states;
-  } catch (...) {
-    sqlite3_exec(connection_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
+  });
 }
 
 std::int64_t TrialStore::refresh_claims(const ClaimOwner& owner) {

@@ -365,8 +365,10 @@ class Aircraft {
   static constexpr bool input_affine = true;  // x', y' are linear in the wind
 
   Aircraft(const AircraftScenario& s, AircraftProtocol protocol, const AircraftConstants& k, int levels,
-           std::shared_ptr<const AircraftDecomposition> dec)
-      : n_(s.size()), protocol_(protocol), k_(k), goal_(s.goal), decomposition_(std::move(dec)),
+           double max_step, std::shared_ptr<const AircraftDecomposition> dec)
+      : n_(s.size()), protocol_(protocol), k_(k), goal_(s.goal),
+        reach_((k.v + std::sqrt(2.0) * k.w) * max_step), pair_change_(std::max(2.0 * reach_, max_step)),
+        decomposition_(std::move(dec)),
         u_(InputSet::grid({{-k.w, -k.w}, {k.w, k.w}}, levels)) {
     for (int i = 0; i < n_; ++i)
       for (int j = i + 1; j < n_; ++j) pairs_.push_back({i, j});
@@ -450,9 +452,10 @@ class Aircraft {
       const int i = k - n_;
       if (aircraft_mode(q, i) == AircraftMode::arrived) return 0.0;
       const double* a = x + kStride * i;
+      const double gx = a[0] - goal_[i][0], gy = a[1] - goal_[i][1];
       double vx, vy;
       velocity(i, a, u, vx, vy);
-      return (a[0] - goal_[i][0]) * vx + (a[1] - goal_[i][1]) * vy;
+      return gx * vx + gy * vy;
     }
     const Pair& pr = pairs_[k - 2 * n_];
     if (!armed(q, x, pr)) return 0.0;
@@ -462,6 +465,16 @@ class Aircraft {
     velocity(pr.i, a, u, vxa, vya);
     velocity(pr.j, b, u, vxb, vyb);
     return (a[0] - b[0]) * (vxa - vxb) + (a[1] - b[1]) * (vya - vyb);
+  }
+
+  // How far a guard can move in one integration step (of at most max_step): the arrival disc by
+  // one aircraft's flight (reach_: v + |wind| over max_step), a conflict disc by two, or by the
+  // refractory clock (rate 1). The aircraft's own guard: watched, without a bound, in heading mode
+  // only (a few seconds at a time); in the other modes it has no peak (0: never watched).
+  double guard_step_change(Mode q, int k) const {
+    if (k < n_) return aircraft_mode(q, k) == AircraftMode::heading ? std::numeric_limits<double>::infinity() : 0.0;
+    if (k < 2 * n_) return reach_;
+    return pair_change_;
   }
 
   Mode jump(Mode q, int k, double* x, const double*) const {
@@ -579,6 +592,8 @@ class Aircraft {
   AircraftConstants k_;
   std::vector<std::array<double, 2>> goal_;
   std::vector<Pair> pairs_;
+  double reach_;     // the farthest an aircraft flies in one integration step (guard_step_change), km
+  double pair_change_;  // a conflict guard's largest change in one step: 2 reach_ or the refractory clock's
   std::shared_ptr<const AircraftDecomposition> decomposition_;
   InputSet u_;
 };
@@ -647,7 +662,7 @@ std::shared_ptr<const System> make_aircraft_system(const AircraftScenario& s, co
   info.integrator.rel_tol = 1e-10;
   info.witness_tolerance = 1e-6;
   auto dec = std::make_shared<const AircraftDecomposition>(n, k.d, k.v, o.step, o.lookahead);
-  return std::make_shared<ModelSystem<Aircraft>>(Aircraft(s, o.protocol, k, o.input_levels, std::move(dec)),
+  return std::make_shared<ModelSystem<Aircraft>>(Aircraft(s, o.protocol, k, o.input_levels, o.max_step, std::move(dec)),
                                                  std::move(info));
 }
 

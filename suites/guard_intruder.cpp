@@ -102,6 +102,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -219,6 +220,9 @@ class GuardIntruder {
     const double rvy = x[3] * std::sin(x[2]) - g[3] * std::sin(g[2]);
     return (x[0] - g[0]) * rvx + (x[1] - g[1]) * rvy;
   }
+  // No bound on how far the guard moves in a step (speeds are not bounded by the model): the peak
+  // function is evaluated at every step end.
+  double guard_step_change(Mode, int) const { return std::numeric_limits<double>::infinity(); }
   Mode jump(Mode q, int k, double*, const double*) const {
     return q == 0 ? static_cast<Mode>(k + 1) : Mode{0};
   }

@@ -83,6 +83,7 @@
 // but not trivially. Every witness leaves the vortex through the r = R guard.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -140,6 +141,9 @@ class Hovercraft {
   double guard_peak(Mode, int, const double* x, const double*, const double*) const {
     return x[0] * x[3] + x[1] * x[4];
   }
+  // No bound on how far the guard moves in a step (speeds are not bounded by the model): the peak
+  // function is evaluated at every step end.
+  double guard_step_change(Mode, int) const { return std::numeric_limits<double>::infinity(); }
   Mode jump(Mode q, int, double*, const double*) const { return q == kVortex ? kCalm : kVortex; }
   bool invariant(Mode, const double*, const double*) const { return true; }
   double spec(Mode, const double* x, const double*) const {

@@ -238,6 +238,11 @@ struct Band {
   {
     return x[0];
   }
+  double guard_step_change(Mode, int) const
+    requires kPeak
+  {
+    return 0.6;  // |x'| = 1 over steps of at most 0.5
+  }
   Mode jump(Mode, int, double*, const double*) const { return 1; }
   bool invariant(Mode, const double*, const double*) const { return true; }
   double spec(Mode, const double*, const double*) const { return 1.0; }
@@ -284,6 +289,7 @@ struct Disc {
   int guard_count(Mode q) const { return q == 0 ? 1 : 0; }
   double guard(Mode, int, const double* x, const double*) const { return r - std::hypot(x[0], x[1]); }
   double guard_peak(Mode, int, const double* x, const double*, const double*) const { return x[0]; }
+  double guard_step_change(Mode, int) const { return 0.6; }  // |x'| = 1 over steps of 0.6
   Mode jump(Mode, int, double*, const double*) const { return 1; }
   bool invariant(Mode, const double*, const double*) const { return true; }
   double spec(Mode, const double*, const double*) const { return 1.0; }
