@@ -134,8 +134,12 @@ void OfflineMonitor::evaluate(int k, const TraceView& trace) {
     return sliding<false>(l, n, start_.data(), end_.data(), -kInf, deque_.data(), out);
   // until: ρ(i) = min(min φ over [i, s(i)), U(s(i)), max ψ over [s(i), e(i)]) with the untimed
   // until U(j) = min(φ_j, max(ψ_j, U(j+1))), U(n−1) = min(φ_{n−1}, ψ_{n−1}): the window's max of
-  // min(ψ_j, min φ over [s, j]) equals min(U(s), max ψ over [s, e]) (robust form of Donzé,
-  // Ferrère & Maler's decomposition; the proof is in tests/test_requirements.cpp).
+  // min(ψ_j, min φ over [s, j]) equals min(U(s), max ψ over [s, e]) (the robust form of Donzé,
+  // Ferrère & Maler's decomposition). Why: call the window's max L, M = max ψ over [s, e] and O
+  // the same max over j > e, so U(s) = max(L, O). L <= M and L <= U(s). If O <= L, U(s) = L. If
+  // O > L: with j* the argmax of ψ in the window, L >= min(M, min φ over [s, j*]) >= min(M, O),
+  // as every term of O is at most min φ over [s, j] ⊇ [s, j*]. The tests check it against the
+  // literal double loop.
   double* untimed = scratch_.data();
   double* psi_max = scratch_.data() + n;
   untimed[n - 1] = std::min(l[n - 1], r[n - 1]);
