@@ -199,22 +199,18 @@ class Parser {
     const int r = implication();
     return add(FormulaNode{Operator::implication, l, r});
   }
-  int disjunction() {
-    int l = conjunction();
-    while (accept(Tok::or_)) {
-      const int r = conjunction();
-      l = add(FormulaNode{Operator::disjunction, l, r});
+  // A left-associative chain: operand (op operand)*.
+  template <int (Parser::*Operand)()>
+  int chain(Tok op, Operator node) {
+    int l = (this->*Operand)();
+    while (accept(op)) {
+      const int r = (this->*Operand)();
+      l = add(FormulaNode{node, l, r});
     }
     return l;
   }
-  int conjunction() {
-    int l = until();
-    while (accept(Tok::and_)) {
-      const int r = until();
-      l = add(FormulaNode{Operator::conjunction, l, r});
-    }
-    return l;
-  }
+  int disjunction() { return chain<&Parser::conjunction>(Tok::or_, Operator::disjunction); }
+  int conjunction() { return chain<&Parser::until>(Tok::and_, Operator::conjunction); }
   int until() {
     int l = unary();
     while (peek().kind == Tok::name && peek().text == "until") {
