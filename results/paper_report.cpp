@@ -400,6 +400,8 @@ std::string cpu_time_line(const ReportHeader& header) {
   return fmt::format("- CPU time: {} over {} trials (their CPU seconds summed)\n", amount, header.trials_run);
 }
 
+static std::string ordering_section(const PaperReport& report);
+
 std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
   std::string md = fmt::format("# {}: {}\n\n", report.id, report.title);
   md += fmt::format("- source: {}\n", report.source.empty() ? std::string(kMissing) : report.source);
@@ -465,7 +467,19 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
                         interval_text(row.wall_s, TableMetric::time_s, row.censored()), stopped_trials_cell(row)});
   }
 
-  md += "\n## Ordering\n\n";
+  // A table of one row (seed 003's RRFT tables) has no order to check: no Ordering section.
+  if (report.rows.size() >= 2) md += ordering_section(report);
+  if (any_bound)
+    md +=
+        "\n≥ right-censored: the row has trials stopped by the time limit (⏱) or the node cap, counted with "
+        "the time and nodes they had when stopped, so the true value is at least this (std and CI are of "
+        "these recorded values). A ratio to a censored first row is an upper bound (≤), or neither bound (~) "
+        "when both rows are censored. The ordering test treats the stopped trials as censored, not as exact.\n";
+  return md;
+}
+
+static std::string ordering_section(const PaperReport& report) {
+  std::string md = "\n## Ordering\n\n";
   std::vector<std::string> labels;
   for (const PaperReportRow& row : report.rows) labels.push_back(row.label);
   std::vector<const OrderingCheck*> checked;
@@ -486,12 +500,6 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
   md += fmt::format("\nSummary over the columns' adjacent pairs: {}.\n", verdict_counts_text(checked));
   md += "\n";
   md += ordering_method_text();
-  if (any_bound)
-    md +=
-        "\n≥ right-censored: the row has trials stopped by the time limit (⏱) or the node cap, counted with "
-        "the time and nodes they had when stopped, so the true value is at least this (std and CI are of "
-        "these recorded values). A ratio to a censored first row is an upper bound (≤), or neither bound (~) "
-        "when both rows are censored. The ordering test treats the stopped trials as censored, not as exact.\n";
   return md;
 }
 

@@ -159,6 +159,21 @@ TEST(PaperReport, OrderingVerdictsHoldReversedAndWithinNoise) {
   EXPECT_NE(to_markdown(holds, header_of("smoke")).find("— A < B: holds (p < 0.001) — holds: 1 hold"), std::string::npos);
 }
 
+// A table of one row (seed 003's RRFT tables) has no order to check: no Ordering section, where
+// it used to list every column as "not checked (fewer than two rows ...)" (issue 27).
+TEST(PaperReport, OneRowHasNoOrderingSection) {
+  PaperTable t = two_by_two(1000, 2500, 0.8, 0.4);
+  t.rows.pop_back();
+  const std::vector<std::vector<TrialRecord>> trials{two_by_two_trials()[0]};
+  const std::string one = to_markdown(make_paper_report(t, trials), header_of("smoke"));
+  EXPECT_EQ(one.find("## Ordering"), std::string::npos) << one;
+  EXPECT_EQ(one.find("not checked"), std::string::npos) << one;
+  EXPECT_NE(one.find("## Trials"), std::string::npos) << one;
+  const std::string two = to_markdown(make_paper_report(two_by_two(1000, 2500, 0.8, 0.4), two_by_two_trials()),
+                                      header_of("smoke"));
+  EXPECT_NE(two.find("## Ordering"), std::string::npos) << two;
+}
+
 TEST(PaperReport, TimeoutsAreCensoredInTheOrderingTest) {
   // Paper: A is faster than B. Ours: A finishes 10 trials in 1..10 s, B times out in all 10 at
   // 9.5 s. By the recorded times B would look faster; as censored values it is certainly slower.
