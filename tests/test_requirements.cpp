@@ -1,10 +1,16 @@
 // STL requirements (core/requirements/): the parser on every ARCH-COMP requirement, its one-line
 // errors with columns, absurd inputs (10^5-deep nesting, random bytes); the offline robustness
 // against hand-computed values and against a brute-force O(n·w) evaluation written from the
-// definitions, on thousands of random formulas and traces (seeded).
+// definitions, on thousands of random formulas and traces (seeded). As in test_fuzz:
+// HYFAL_FUZZ_ITERATIONS scales both random tests' counts and HYFAL_FUZZ_SEED changes their seeds,
+// for longer runs by hand.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <random>
@@ -19,6 +25,15 @@ namespace {
 
 const std::vector<std::string> kAt{"y1", "y2", "y3", "u1", "u2"};
 const std::vector<std::string> kCc{"y1", "y2", "y3", "y4", "y5"};
+
+std::uint64_t seed_or(std::uint64_t fallback) {
+  const char* s = std::getenv("HYFAL_FUZZ_SEED");
+  return s ? std::strtoull(s, nullptr, 10) : fallback;
+}
+int scaled(int count) {
+  const char* s = std::getenv("HYFAL_FUZZ_ITERATIONS");
+  return static_cast<int>(std::max(1L, s ? std::strtol(s, nullptr, 10) : 1L) * count);
+}
 
 std::string error_of(const std::string& text, const std::vector<std::string>& signals = kAt) {
   try {
@@ -120,7 +135,7 @@ TEST(RequirementParser, AbsurdNestingIsAnErrorNotACrash) {
 
 // Random byte strings and mutations of valid requirements: RequirementError only, in one line.
 TEST(RequirementParser, FuzzedTextsGiveOneLineErrorsOnly) {
-  std::mt19937_64 rng(20261204);
+  std::mt19937_64 rng(seed_or(20261204));
   const std::vector<std::string> seeds = {
       "always[0,30] ((y3 != 2 and eventually[0.001,0.1] y3 == 2) -> eventually[0.001,0.1] always[0,2.5] y3 == 2)",
       "always[0,80] ((always[0,20] (y2 - y1 <= 20)) or (eventually[0,20] (y5 - y4 >= 40)))",
@@ -128,7 +143,8 @@ TEST(RequirementParser, FuzzedTextsGiveOneLineErrorsOnly) {
   const std::string alphabet = "()[],.+-*/<>=!&|0123456789eE yualwsvntdib_\t\x01\xff";
   const std::vector<std::string> signals{"y1", "y2", "y3", "y4", "y5", "u1"};
   int parsed = 0, refused = 0;
-  for (int k = 0; k < 20000; ++k) {
+  const int inputs = scaled(20000);
+  for (int k = 0; k < inputs; ++k) {
     std::string s = seeds[k % seeds.size()];
     const int edits = 1 + static_cast<int>(rng() % 4);
     for (int e = 0; e < edits && !s.empty(); ++e) {
@@ -155,6 +171,8 @@ TEST(RequirementParser, FuzzedTextsGiveOneLineErrorsOnly) {
   }
   EXPECT_GT(parsed, 100);
   EXPECT_GT(refused, 1000);
+  std::printf("[ requirements fuzz ] %d inputs: %d parsed (printed and parsed back alike), %d refused in one line\n",
+              inputs, parsed, refused);
 }
 
 // --- robustness: hand-computed ------------------------------------------------------------------
@@ -327,10 +345,12 @@ std::string random_formula(std::mt19937_64& rng, int depth) {
 }
 
 TEST(Robustness, AgreesWithTheBruteForceDefinitionsOnRandomFormulasAndTraces) {
-  std::mt19937_64 rng(42);
+  std::mt19937_64 rng(seed_or(42));
   const std::vector<std::string> names{"a", "b"};
   int checked = 0;
-  for (int k = 0; k < 3000; ++k) {
+  const int formulas = scaled(3000);
+  long samples = 0;
+  for (int k = 0; k < formulas; ++k) {
     const Formula f = parse_requirement(random_formula(rng, 1 + static_cast<int>(rng() % 4)), names);
     const std::size_t n = 1 + rng() % 40;
     std::vector<double> t(n), values(2 * n);
@@ -350,9 +370,11 @@ TEST(Robustness, AgreesWithTheBruteForceDefinitionsOnRandomFormulasAndTraces) {
         ASSERT_DOUBLE_EQ(got[i], want[i]) << to_string(f) << " node " << node << " sample " << i << " of " << n;
     }
     EXPECT_DOUBLE_EQ(r0, brute.eval(f.root())[0]);
+    samples += static_cast<long>(n * f.nodes.size());
     ++checked;
   }
-  EXPECT_EQ(checked, 3000);
+  EXPECT_EQ(checked, formulas);
+  std::printf("[ brute force ] %d formulas, %ld node x sample values equal\n", checked, samples);
 }
 
 }  // namespace
