@@ -209,7 +209,7 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
   for (const auto& s : sets_text) sets.push_back(split_setting(s));
   Json instance;
   try {
-    instance = resolve_options(suite->parameters, sets);
+    instance = canonical_instance(resolve_options(suite->parameters, sets));
     if (suite->export_instance) {
       std::cout << suite->export_instance(instance).dump() << '\n';
       return 0;
@@ -255,9 +255,16 @@ int cmd_validate(const std::string& file) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(one_line(fmt::format("'{}': bad instance: {}", file, e.what())));
   }
-  const ValidationReport r = validate_witness(*system, w);
+  ValidationReport r = validate_witness(*system, w);
   if (r.malformed)
     throw UsageError(one_line(fmt::format("'{}': not a witness of this {} instance: {}", file, w.suite, r.reason)));
+  // An STL witness records the robustness its validation found; a re-validation finds the same.
+  if (r.valid && r.robustness && w.requirement &&
+      !(std::abs(*r.robustness - w.requirement->robustness) <= 1e-9 * (1.0 + std::abs(*r.robustness)))) {
+    r.valid = false;
+    r.reason = fmt::format("the re-simulated robustness {:.9g} differs from the recorded {:.9g}", *r.robustness,
+                           w.requirement->robustness);
+  }
   fmt::print("{}: {}\n", r.valid ? "VALID" : "INVALID", one_line(r.reason));
   return r.valid ? 0 : 1;
 }

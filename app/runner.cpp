@@ -21,6 +21,7 @@
 #include "core/options.hpp"
 #include "core/rng.hpp"
 #include "parallel/cluster.hpp"
+#include "suites/registry.hpp"
 
 #ifndef HYFAL_SOURCE_DIR
 #define HYFAL_SOURCE_DIR "."
@@ -122,7 +123,7 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
   }
   TrialGroup g;
   g.spec = spec;
-  g.instance = resolve_options(suite->parameters, instance_sets);
+  g.instance = canonical_instance(resolve_options(suite->parameters, instance_sets));
   g.options = resolve_options(method->options, method_sets);
   try {
     g.system = suite->make(g.instance);

@@ -29,6 +29,10 @@
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the
 //    integrator then tests each step with it and evaluates spec only where it needs the value.
+//  - Optional: `void outputs(q, x, u, p, y)`, the suite's output signals y (SystemInfo::outputs
+//    names them, with units), read by STL requirements (core/requirements/requirement.hpp). A
+//    discrete output (a gear) is a function of q. Every system also has its inputs and `safety`
+//    (= spec) as signals.
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -128,6 +132,19 @@ struct PropagationInterrupt {
   std::stop_token stop;
 };
 
+// Receives the samples of a propagation's trace (STL requirements, core/requirements/): the
+// state after every integration step, and at an event both the state before the reset (mode q)
+// and after it (the next mode), both at the event's time. t is the time since the propagation's
+// start. The start state is not sampled (it is the end of the trace so far).
+class SampleSink {
+ public:
+  virtual ~SampleSink() = default;
+  virtual void sample(double t, Mode q, std::span<const double> x) = 0;
+  // True when the sink reads the `safety` signal: then entries into s <= 0 are localized and
+  // sampled like events (without stopping, see Propagator::set_trace).
+  virtual bool samples_unsafe_entries() const { return false; }
+};
+
 struct PropagationResult {
   PropagationEnd end = PropagationEnd::completed;
   double duration = 0.0;  // flow time taken in the start mode
@@ -150,6 +167,11 @@ class Propagator {
     since_check_ = 0;
   }
   bool interrupted() const { return interrupted_; }
+  // STL mode (a non-null sink): every propagate() sends its trace's samples to `sink`, and the
+  // unsafe set no longer stops the flow (the requirement, not s <= 0, decides falsification);
+  // entries into it are sampled when the sink reads `safety`. Null: reachability (the default).
+  void set_trace(SampleSink* sink) { sink_ = sink; }
+  SampleSink* trace() const { return sink_; }
   // Flows (q, x) under constant u for at most `duration`; see PropagationEnd. out has dim().
   virtual PropagationResult propagate(Mode q, std::span<const double> x,
                                       std::span<const double> u, std::span<const double> p,
@@ -172,6 +194,7 @@ class Propagator {
     interrupted_ = interrupt_.stop.stop_requested() || std::chrono::steady_clock::now() >= interrupt_.deadline;
     return interrupted_;
   }
+  SampleSink* sink_ = nullptr;
 
  private:
   PropagationInterrupt interrupt_;
@@ -186,6 +209,25 @@ struct CoverageSpec {
   Box box;
   double spacing = 0.0;  // 0: the suite defines no coverage grid
 };
+
+// A named signal of a system: an output (M::outputs), an input, or `safety`.
+struct SignalInfo {
+  std::string name;
+  std::string unit;     // "" when dimensionless
+  std::string meaning;  // one line, for `hyfal list`
+};
+
+// A requirement a suite declares (the ARCH-COMP ids, or its own), in the notation of
+// core/requirements/formula.hpp over the system's signals.
+struct DeclaredRequirement {
+  std::string id;
+  std::string formula;
+  std::string meaning;
+};
+
+namespace stl {
+struct Requirement;  // core/requirements/requirement.hpp
+}
 
 // Static facts about one system instance.
 struct SystemInfo {
@@ -218,6 +260,13 @@ struct SystemInfo {
   int random_inputs_per_extension = 1;
   IntegratorSettings integrator;
   double witness_tolerance = 1e-6;     // validation tolerance on states and on s
+  // STL: the output signals (values from M::outputs, in this order), the inputs' units (empty, or
+  // one per input), the requirements the suite declares, and the one this instance falsifies
+  // (null: reachability of s <= 0; set from the `requirement` instance parameter).
+  std::vector<SignalInfo> outputs;
+  std::vector<std::string> input_units;
+  std::vector<DeclaredRequirement> requirements;
+  std::shared_ptr<const stl::Requirement> requirement;
   std::size_t dim() const { return initial_state.size(); }
 };
 
@@ -252,6 +301,9 @@ class System {
   virtual Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const = 0;
   virtual bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const = 0;
   virtual double spec(Mode q, std::span<const double> x, std::span<const double> p) const = 0;
+  // The output signals at (q, x) under u (SystemInfo::outputs.size() values).
+  virtual void outputs(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                       std::span<double> y) const {}
   virtual std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const = 0;
   std::unique_ptr<Propagator> make_propagator() const { return make_propagator(info().integrator); }
   // The region decomposition of seed 002 Sect. 3.2 (HyDICE), when the suite provides one.

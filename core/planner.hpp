@@ -94,7 +94,20 @@ struct PlannerCounters {
   std::int64_t nodes = 0;
   std::int64_t propagations = 0;
   std::int64_t integration_steps = 0;
+  double simulated_time = 0.0;  // flow time of every propagation (STL: simulations = this / horizon)
+  // Adds o's propagation work (not its nodes: those are counted where they are committed).
+  void add_work(const PlannerCounters& o) {
+    propagations += o.propagations;
+    integration_steps += o.integration_steps;
+    simulated_time += o.simulated_time;
+  }
 };
+
+// The start of a search falsifies at once: reachability, when s(x0) <= 0. (With an STL
+// requirement the root's trace has one sample, decided by the first extension's monitor.)
+inline bool starts_unsafe(const System& system, Mode q, std::span<const double> x, std::span<const double> p) {
+  return !system.info().requirement && system.spec(q, x, p) <= 0.0;
+}
 
 // A per-trial progress series, e.g. coverage against nodes (stored in the `series` table).
 struct NamedSeries {
@@ -152,7 +165,8 @@ class SearchBudget {
 // (as OMPL's declareParam does with a range string):
 //   "[1, 1000]", "(0, 1]", "[0, inf)"  an interval (integers and numbers; inf allowed as a bound)
 //   "metric|t2go"                      the allowed strings
-//   ""                                 any value of the type (booleans only; a test checks)
+//   ""                                 any value of the type (booleans, and the `requirement` text,
+//                                      which its parser checks; a test checks)
 // core/options.hpp checks values against it; `hyfal list` prints it.
 struct OptionSpec {
   std::string key;

@@ -68,9 +68,10 @@ class ModelPropagator final : public Propagator {
     }
     std::copy(x.begin(), x.end(), x0_.begin());
     const double* pp = p.data();
-    // Already unsafe, or an urgent transition already enabled: zero-time outcome.
+    // Already unsafe, or an urgent transition already enabled: zero-time outcome. (STL mode,
+    // sink_ set: the unsafe set does not stop the flow; only s is sampled, see set_trace.)
     r.spec = model_.spec(q, x0_.data(), pp);
-    if (r.spec <= 0.0) {
+    if (r.spec <= 0.0 && sink_ == nullptr) {
       r.end = PropagationEnd::unsafe;
       std::copy(x0_.begin(), x0_.end(), out.begin());
       return r;
@@ -91,9 +92,11 @@ class ModelPropagator final : public Propagator {
         r.end = all_finite(x0_) ? PropagationEnd::jumped : PropagationEnd::rejected;
         r.spec = model_.spec(r.mode, x0_.data(), pp);
         std::copy(x0_.begin(), x0_.end(), out.begin());
+        if (sink_) sink_->sample(0.0, r.mode, x0_);  // the state before is the trace's last sample
         return r;
       }
     }
+    if (sink_) return propagate_sampled(q, u, pp, duration, out, r);
     double s0 = r.spec;
     const FlowField field{&model_, q, u.data(), pp};
     const double end_t = duration;
@@ -102,23 +105,7 @@ class ModelPropagator final : public Propagator {
     if (settings_.kind == IntegratorKind::dopri5) dense_.initialize(x0_, 0.0, settings_.step);
 
     while (end_t - t > t_eps) {
-      // One step: x1_ at t1 from x0_ at t.
-      double t1;
-      if (settings_.kind == IntegratorKind::rk4) {
-        const double h = std::min(settings_.step, end_t - t);
-        rk4_.do_step(field, x0_, t, x1_, h);
-        t1 = t + h;
-      } else {
-        const auto [ta, tb] = dense_.do_step(field);
-        (void)ta;
-        if (tb >= end_t) {
-          t1 = end_t;
-          dense_.calc_state(end_t, x1_);
-        } else {
-          t1 = tb;
-          std::copy(dense_.current_state().begin(), dense_.current_state().end(), x1_.begin());
-        }
-      }
+      const double t1 = step_to(field, t, end_t);  // x1_ at t1 from x0_ at t
       ++r.steps;
       if (interrupt_due() || !all_finite(x1_)) {
         r.end = PropagationEnd::rejected;
@@ -307,6 +294,109 @@ class ModelPropagator final : public Propagator {
     if (!(gm > 0.0)) return std::numeric_limits<double>::infinity();
     return locate(field, t, tm, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
                   g0_[k], gm).first;
+  }
+
+  // One integration step from (t, x0_) to t1 (at most `end_t`), into x1_. RK4: a fixed step;
+  // dopri5: the dense stepper's next step, cut at end_t.
+  double step_to(const FlowField& field, double t, double end_t) {
+    if (settings_.kind == IntegratorKind::rk4) {
+      const double h = std::min(settings_.step, end_t - t);
+      rk4_.do_step(field, x0_, t, x1_, h);
+      return t + h;
+    }
+    const auto [ta, tb] = dense_.do_step(field);
+    (void)ta;
+    if (tb >= end_t) {
+      dense_.calc_state(end_t, x1_);
+      return end_t;
+    }
+    std::copy(dense_.current_state().begin(), dense_.current_state().end(), x1_.begin());
+    return tb;
+  }
+
+  // propagate() in STL mode (a sink is set): the same steps, invariant and guard events as in
+  // reachability, but every step end goes to the sink, and s <= 0 does not stop the flow. When
+  // the sink reads `safety`, an entry into s <= 0 is localized as in reachability and sampled
+  // (at the right end of its bracket: s <= 0 there), so that `always (safety > 0)` sees the
+  // same crossing the reachability check stops at. r holds the start's mode and s.
+  PropagationResult propagate_sampled(Mode q, std::span<const double> u, const double* pp, double duration,
+                                      std::span<double> out, PropagationResult r) {
+    const int nk = model_.guard_count(q);
+    const bool watch_unsafe = sink_->samples_unsafe_entries();
+    double s0 = r.spec;
+    const FlowField field{&model_, q, u.data(), pp};
+    const double end_t = duration;
+    const double t_eps = 1e-12 * std::max(1.0, std::abs(duration));
+    double t = 0.0;
+    if (settings_.kind == IntegratorKind::dopri5) dense_.initialize(x0_, 0.0, settings_.step);
+    while (end_t - t > t_eps) {
+      const double t1 = step_to(field, t, end_t);
+      ++r.steps;
+      if (interrupt_due() || !all_finite(x1_)) {
+        r.end = PropagationEnd::rejected;
+        r.duration = t;
+        return r;
+      }
+      if (!model_.invariant(q, x1_.data(), pp)) {  // seed 002 Alg. 3: last valid state (sampled)
+        r.end = PropagationEnd::invariant;
+        r.duration = t;
+        r.spec = model_.spec(q, x0_.data(), pp);
+        std::copy(x0_.begin(), x0_.end(), out.begin());
+        return r;
+      }
+      double unsafe_t = std::numeric_limits<double>::infinity();
+      double s1 = 0.0;
+      if (watch_unsafe) {
+        s1 = model_.spec(q, x1_.data(), pp);
+        if (s0 > 0.0 && s1 <= 0.0)
+          unsafe_t = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); }, -s0, -s1).second;
+      }
+      int event = kNoEvent;
+      double event_t = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < nk; ++k) {
+        g1_[k] = model_.guard(q, k, x1_.data(), pp);
+        double tk = std::numeric_limits<double>::infinity();
+        if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
+          tk = locate(field, t, t1, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+                      g0_[k], g1_[k]).first;
+        } else if constexpr (kGuardPeaks) {
+          h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u.data(), pp);
+          if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
+            tk = crossed_inside_step(field, q, k, t, t1, u.data(), pp);
+        }
+        if (tk < event_t) {
+          event_t = tk;
+          event = k;
+        }
+      }
+      if (unsafe_t <= event_t && unsafe_t <= t1) {  // an entry, when it comes first (or with the event)
+        state_at(field, t, unsafe_t, xt_);
+        sink_->sample(unsafe_t, q, xt_);
+      }
+      if (event != kNoEvent) {
+        state_at(field, t, event_t, xt_);
+        sink_->sample(event_t, q, xt_);  // before the reset
+        r.duration = event_t;
+        r.mode = model_.jump(q, event, xt_.data(), pp);
+        r.transition = event;
+        r.end = all_finite(xt_) ? PropagationEnd::jumped : PropagationEnd::rejected;
+        r.spec = model_.spec(r.mode, xt_.data(), pp);
+        std::copy(xt_.begin(), xt_.end(), out.begin());
+        if (r.end == PropagationEnd::jumped) sink_->sample(event_t, r.mode, xt_);  // after it
+        return r;
+      }
+      sink_->sample(t1, q, x1_);
+      std::swap(x0_, x1_);
+      std::swap(g0_, g1_);
+      if constexpr (kGuardPeaks) std::swap(h0_, h1_);
+      if (watch_unsafe) s0 = s1;
+      t = t1;
+    }
+    r.end = PropagationEnd::completed;
+    r.duration = duration;
+    r.spec = model_.spec(q, x0_.data(), pp);
+    std::copy(x0_.begin(), x0_.end(), out.begin());
+    return r;
   }
 
   const M& model_;

@@ -68,6 +68,11 @@ class ModelSystem final : public System {
   double spec(Mode q, std::span<const double> x, std::span<const double> p) const override {
     return model_.spec(q, x.data(), p.data());
   }
+  void outputs(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+               std::span<double> y) const override {
+    if constexpr (requires { model_.outputs(q, x.data(), u.data(), p.data(), y.data()); })
+      model_.outputs(q, x.data(), u.data(), p.data(), y.data());
+  }
   std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const override {
     return std::make_unique<ModelPropagator<M>>(model_, s);
   }

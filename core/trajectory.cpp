@@ -10,6 +10,9 @@
 
 #include <fmt/format.h>
 
+#include "core/requirements/requirement.hpp"
+#include "core/requirements/robustness.hpp"
+
 namespace hyfal {
 
 namespace {
@@ -164,6 +167,7 @@ Witness make_witness(const System& system, std::string method, std::int64_t tria
   w.state_names = info.state_names;
   w.input_names = info.input_names;
   w.trajectory = std::move(trajectory);
+  if (info.requirement) w.requirement = WitnessRequirement{info.requirement->id, info.requirement->text, 0.0};
   return w;
 }
 
@@ -174,7 +178,7 @@ Json to_json(const Witness& w) {
     pieces.push_back({{"mode", p.mode}, {"u", vec(p.u)}, {"duration", p.duration},
                       {"x_start", vec(p.x_start)}, {"x_end", vec(p.x_end)},
                       {"transition", p.transition}});
-  return {{"format", "hyfal-witness/1"},
+  Json j = {{"format", "hyfal-witness/1"},
           {"suite", w.suite},
           {"instance", w.instance},
           {"method", w.method},
@@ -185,6 +189,10 @@ Json to_json(const Witness& w) {
           {"initial", {{"mode", t.initial_mode}, {"x", vec(t.initial_x)}}},
           {"pieces", pieces},
           {"final", {{"mode", t.final_mode}, {"x", vec(t.final_x)}, {"spec", t.final_spec}}}};
+  if (w.requirement)
+    j["requirement"] = {{"id", w.requirement->id}, {"formula", w.requirement->formula},
+                        {"robustness", w.requirement->robustness}};
+  return j;
 }
 
 Witness witness_from_json(const Json& j) {
@@ -230,6 +238,12 @@ Witness witness_from_json(const Json& j) {
   t.final_mode = integer_field<Mode>(final_j, "mode", "final.", 0, kModeMax);
   t.final_x = numbers(final_j, "x", "final.", n);
   t.final_spec = number_field(final_j, "spec", "final.");
+  if (j.contains("requirement")) {
+    const Json& rj = member(j, "requirement", "");
+    w.requirement = WitnessRequirement{field<std::string>(rj, "id", "requirement."),
+                                       field<std::string>(rj, "formula", "requirement."),
+                                       number_field(rj, "robustness", "requirement.")};
+  }
   return w;
 }
 
@@ -378,6 +392,10 @@ struct Replay {
   Mode q = 0;
   std::vector<double> x, next;
   double max_state_error = 0.0;
+  // STL: the trace's samples (rows of time and the requirement's signals), and the time so far.
+  std::optional<stl::SignalSampler> sampler;
+  std::vector<double> rows;
+  double time = 0.0;
 
   // Records the error of a recorded state against the re-simulated one; returns it.
   double error_of(std::span<const double> recorded) {
@@ -405,6 +423,7 @@ Failure flow_through(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
     run.x.swap(run.next);
     const bool inside = (s + 1 < sub);
     const double at = h * static_cast<double>(s + 1);
+    if (run.sampler) run.sampler->sample(at, q, run.x);
     if (!system.invariant(q, run.x, run.p) && inside)
       return fmt::format("piece {}: the invariant of mode {} fails at t = {:.6g}", i, system.mode_name(q), at);
     if (inside)
@@ -425,7 +444,15 @@ Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
   if (const double e0 = run.error_of(piece.x_start); e0 > run.tol)
     return fmt::format("piece {}: x_start differs from the re-simulated state by {:.3g}", i, e0);
   if (Failure why = inadmissible_input(system, run.q, piece, i, run.tol)) return why;
+  if (run.sampler) {
+    if (i == 0) {  // the first sample, with the first piece's input (core/requirements/edge_monitor.hpp)
+      run.sampler->begin(0.0, piece.u, run.p, run.rows);
+      run.sampler->sample(0.0, run.q, run.x);
+    }
+    run.sampler->begin(run.time, piece.u, run.p, run.rows);
+  }
   if (Failure why = flow_through(run, piece, i)) return why;
+  run.time += piece.duration;
   if (const double e1 = run.error_of(piece.x_end); e1 > run.tol)
     return fmt::format("piece {}: x_end differs from the re-simulated state by {:.3g}", i, e1);
   if (piece.transition >= 0) {  // a guard index of q (shape_mismatch checked it)
@@ -433,6 +460,7 @@ Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
     if (system.guard(run.q, k, run.x, run.p) < -run.tol)
       return fmt::format("piece {}: transition {} is not enabled at the end of the piece", i, k);
     run.q = system.jump(run.q, k, run.x, run.p);
+    if (run.sampler) run.sampler->sample(piece.duration, run.q, run.x);  // after the reset, at the same time
   }
   return std::nullopt;
 }
@@ -449,8 +477,37 @@ Failure final_state_mismatch(Replay& run, const Trajectory& t, double& final_spe
   if (std::abs(final_spec - t.final_spec) > run.tol * (1.0 + std::abs(final_spec)))
     return fmt::format("the recorded final s = {:.6g} differs from the re-simulated s = {:.6g}", t.final_spec,
                        final_spec);
+  if (run.sampler) return std::nullopt;  // an STL witness: the requirement decides (trace_violation)
   if (final_spec > run.tol)
     return fmt::format("the re-simulated final state is safe: s = {:.6g} > {:.3g}", final_spec, run.tol);
+  return std::nullopt;
+}
+
+// An STL witness's trace against its requirement: the offline robustness of the re-simulated
+// samples must be negative, and the witness must name the requirement its instance has.
+Failure trace_violation(Replay& run, const Witness& w, ValidationReport& r) {
+  const stl::Requirement& req = *run.system.info().requirement;
+  if (!w.requirement) return "the instance has an STL requirement, but the witness records none";
+  if (w.requirement->formula != req.text)
+    return fmt::format("the witness's requirement '{}' is not its instance's '{}'", w.requirement->formula, req.text);
+  if (run.rows.empty()) {  // no piece: the initial state alone, with no input
+    const std::vector<double> u(run.system.info().input_names.size(), 0.0);
+    run.sampler->begin(0.0, u, run.p, run.rows);
+    run.sampler->sample(0.0, run.q, run.x);
+  }
+  const std::size_t width = run.sampler->row_width(), n = run.rows.size() / width, signals = width - 1;
+  std::vector<double> time(n), values(signals * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    time[i] = run.rows[i * width];
+    for (std::size_t s = 0; s < signals; ++s) values[s * n + i] = run.rows[i * width + 1 + s];
+  }
+  stl::OfflineMonitor monitor(req.formula);
+  const double rho = monitor.robustness(stl::TraceView{time, values});
+  r.robustness = rho;
+  r.samples = n;
+  if (!(rho < 0.0))
+    return fmt::format("the re-simulated trace ({} samples over [0, {:.6g}]) has robustness {:.6g} >= 0 for '{}'", n,
+                       time.back(), rho, req.text);
   return std::nullopt;
 }
 
@@ -474,14 +531,19 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
   const auto propagator = system.make_propagator(tight);
   Replay run{system, *propagator, t.parameters, system.info().witness_tolerance, tight.max_step, t.initial_mode,
              t.initial_x, std::vector<double>(t.initial_x.size())};
+  if (system.info().requirement) run.sampler.emplace(system, *system.info().requirement);
   Failure why;
   for (std::size_t i = 0; i < t.pieces.size() && !why; ++i) why = replay_piece(run, t.pieces[i], i);
   if (!why) why = final_state_mismatch(run, t, r.final_spec);
+  if (!why && run.sampler) why = trace_violation(run, w, r);
   r.max_state_error = run.max_state_error;
   if (why) return fail(std::move(*why));
   r.valid = true;
-  r.reason = fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, final s = {:.6g}", t.pieces.size(),
-                         r.max_state_error, r.final_spec);
+  r.reason = r.robustness ? fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, robustness {:.6g} "
+                                        "over {} samples",
+                                        t.pieces.size(), r.max_state_error, *r.robustness, r.samples)
+                          : fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, final s = {:.6g}",
+                                        t.pieces.size(), r.max_state_error, r.final_spec);
   return r;
 }
 

@@ -5,6 +5,7 @@
 // x_end to the next piece's x_start (format hyfal-witness/1; see README).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -33,6 +34,14 @@ struct Trajectory {
   double final_spec = 0.0;
 };
 
+// An STL witness's requirement (instance parameter `requirement`): as named and as written, and
+// the robustness of the witness's trace as the validator re-simulates and samples it (< 0).
+struct WitnessRequirement {
+  std::string id;       // "" for a formula given inline
+  std::string formula;
+  double robustness = 0.0;
+};
+
 struct Witness {
   std::string suite;
   Json instance;
@@ -40,6 +49,7 @@ struct Witness {
   std::int64_t trial_seed = 0;
   std::vector<std::string> state_names, input_names;
   Trajectory trajectory;
+  std::optional<WitnessRequirement> requirement;  // STL witnesses only
 };
 
 // The witness of a trajectory of `system`, with the names and instance the system declares.
@@ -75,6 +85,10 @@ struct ValidationReport {
   std::string reason;          // why not, or a one-line summary when valid
   double final_spec = 0.0;     // s at the re-simulated final state
   double max_state_error = 0.0;  // largest |re-simulated - recorded| over all checked states
+  // STL: the robustness of the re-simulated trace (the offline monitor, core/requirements/), and
+  // how many samples it has. Valid only when < 0.
+  std::optional<double> robustness;
+  std::size_t samples = 0;
 };
 
 // Re-simulates the pieces from the initial state with a tight Dormand-Prince integrator,
@@ -84,7 +98,11 @@ struct ValidationReport {
 // extends a node for longer, so a witness asks for bounded work). Then: modes, inputs within U_q, each
 // piece's end state, that no transition became enabled inside a piece (urgency), that each
 // recorded transition is enabled at its piece's end and its reset reproduces the next
-// x_start, and that the final state has s <= tolerance.
+// x_start, and that the final state has s <= tolerance — or, for a system with an STL requirement,
+// that the trace, sampled at the end of every sub-interval of the re-simulation (the suite's
+// integration step) and on both sides of every transition, has a negative robustness. (A
+// violation that lies only between two of these samples, such as an unsafe set entered and left
+// within one step, is not seen: such a witness is refused, never a false one accepted.)
 ValidationReport validate_witness(const System& system, const Witness& w);
 
 }  // namespace hyfal

@@ -76,6 +76,11 @@ class SegmentedRows {
     T* base = segments_[seg].load(std::memory_order_acquire);
     return base ? base + off * width_ : nullptr;
   }
+  const T* find(std::size_t i) const {
+    const auto [seg, off] = locate(i);
+    const T* base = segments_[seg].load(std::memory_order_acquire);
+    return base ? base + off * width_ : nullptr;
+  }
   // Frees every segment (not thread-safe: no other access may be in flight).
   void clear() {
     for (auto& s : segments_) delete[] s.exchange(nullptr, std::memory_order_acq_rel);
@@ -154,12 +159,18 @@ class NodeStore {
   NodeStore(std::size_t state_dim, std::size_t input_dim)
       : states_(state_dim), inputs_(input_dim), state_dim_(state_dim), input_dim_(input_dim) {}
 
+  // `monitor`: the node's STL monitor state (core/requirements/prefix_monitor.hpp), empty
+  // without a requirement; written before the node is published, like everything else.
   NodeId add(NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x, std::span<const double> u,
-             double duration, int transition) {
+             double duration, int transition, std::span<const double> monitor = {}) {
     const std::size_t i = count_.reserve_and_ensure();
     info_.ensure(i);
     states_.ensure(i);
     inputs_.ensure(i);
+    if (!monitor.empty()) {
+      monitors_.ensure(i);
+      monitors_.row(i)[0].assign(monitor.begin(), monitor.end());
+    }
     info_.row(i)[0] = NodeInfo{parent, transition, mode, edge_mode, duration, 0, 0};
     auto xs = states_.row(i);
     for (std::size_t k = 0; k < state_dim_; ++k) xs[k] = x[k];
@@ -176,6 +187,11 @@ class NodeStore {
   const NodeInfo& info(NodeId i) const { return info_.row(i)[0]; }
   std::span<const double> state(NodeId i) const { return states_.row(i).first(state_dim_); }
   std::span<const double> input(NodeId i) const { return inputs_.row(i).first(input_dim_); }
+  // The monitor state given to add(); empty when none was (a root: the empty trace's state).
+  std::span<const double> monitor(NodeId i) const {
+    const std::vector<double>* row = monitors_.find(i);
+    return row ? std::span<const double>(*row) : std::span<const double>();
+  }
 
   // Counters several workers may bump at once (relaxed: only their totals matter).
   void count_selection(NodeId i) { std::atomic_ref(info(i).selections).fetch_add(1, std::memory_order_relaxed); }
@@ -200,6 +216,7 @@ class NodeStore {
     info_.clear();
     states_.clear();
     inputs_.clear();
+    monitors_.clear();
   }
 
  private:
@@ -207,6 +224,8 @@ class NodeStore {
   SegmentedRows<NodeInfo> info_{1};
   SegmentedRows<double> states_;
   SegmentedRows<double> inputs_;
+  // Allocated only where a node has a monitor state (segments are made on first use).
+  SegmentedRows<std::vector<double>> monitors_{1};
   std::size_t state_dim_, input_dim_;
 };
 

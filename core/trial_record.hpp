@@ -60,6 +60,10 @@ struct TrialRecord {
   std::string started_at;   // ISO 8601 UTC, e.g. 2026-11-22T03:14:15.123Z
   std::string finished_at;
   std::string metrics = "{}";  // JSON object of method-specific scalars (coverage, beta, ...)
+  // With an STL requirement metrics also holds "robustness" (a falsified trial's: its witness's, as
+  // the validator re-simulates it; otherwise the lowest upper bound of any node of the search)
+  // and "simulations", the simulation-equivalents: simulated time / the requirement's horizon
+  // (absent when the horizon is unbounded).
   // Progress series (name, points), stored in the `series` table with the trial's id.
   std::vector<std::pair<std::string, std::vector<std::pair<double, double>>>> series;
 };

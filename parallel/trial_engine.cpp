@@ -1,11 +1,14 @@
 #include "parallel/trial_engine.hpp"
 
+#include "core/requirements/requirement.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <optional>
@@ -173,14 +176,23 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
     rec.nodes = out.counters.nodes;
     rec.propagations = out.counters.propagations;
     rec.integration_steps = out.counters.integration_steps;
+    if (const SystemInfo& i = job.system->info(); i.requirement) {
+      // Simulation-equivalents: the simulated time over the requirement's horizon (how many
+      // whole simulations the search's propagations add up to; unbounded requirements: none).
+      const double horizon = i.requirement->formula.horizon();
+      if (std::isfinite(horizon) && horizon > 0.0) out.metrics["simulations"] = out.counters.simulated_time / horizon;
+    }
     rec.status = out.status;
-    rec.metrics = out.metrics.dump();
     for (auto& s : out.series) rec.series.emplace_back(std::move(s.name), std::move(s.points));
     if (out.status == TrialStatus::falsified) {
       if (!out.trajectory) throw std::logic_error("the planner reported falsified without a trajectory");
-      const Witness w = make_witness(*job.system, job.key.method, job.seed, std::move(*out.trajectory));
+      Witness w = make_witness(*job.system, job.key.method, job.seed, std::move(*out.trajectory));
       const ValidationReport report = validate_witness(*job.system, w);
       rec.validated = report.valid;
+      if (report.robustness) {  // STL: the witness's robustness is the validator's, from its own trace
+        w.requirement->robustness = *report.robustness;
+        out.metrics["robustness"] = *report.robustness;
+      }
       result.witness_text = to_json(w).dump(1) + "\n";
       if (!report.valid) {  // a trial counts as falsified only if its witness validates
         rec.status = TrialStatus::error;
@@ -188,6 +200,7 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
       }
       if (trees) result.tree_text = tree_file_text(*trees, info);
     }
+    rec.metrics = out.metrics.dump();
   } catch (const std::exception& e) {
     rec.status = TrialStatus::error;
     rec.validated = false;  // no witness vouches for it

@@ -70,6 +70,10 @@
 // than two fly). Arrived aircraft are ignored: they have left the airspace (an aircraft crossing
 // another's goal would otherwise "collide" with it without the protocol ever reacting).
 // Invariant: none. P: one parameter, p (the protect radius).
+// STL requirements (ours, `--set requirement=A2`): A1 `always (safety > 0)` (the papers' property);
+// A2 `always (separation >= 2)` (twice d); A3 `always[0,600] (avoiding > 0 -> eventually[0,150]
+// avoiding == 0)`: every conflict resolved within 150 s (a half circle takes 104.7 s, so A3 fails
+// only when a manoeuvre is re-triggered). Signals: separation (km), avoiding, arrived, d1, d2, safety.
 //
 // Instances (`example`):
 //  - esposito5 (seed 003 Example 1; the paper shows only a figure): five aircraft on a circle of
@@ -527,6 +531,20 @@ class Aircraft {
 
   const InputSet& inputs(Mode) const { return u_; }
 
+  // Signals for STL requirements: the separation (the distance of the closest pair of flying
+  // aircraft; kFar + d when fewer than two fly), and how many aircraft avoid and have arrived.
+  void outputs(Mode q, const double* x, const double* u, const double* p, double* y) const {
+    y[0] = spec(q, x, p) + k_.d;
+    int avoiding = 0, arrived = 0;
+    for (int i = 0; i < n_; ++i) {
+      const AircraftMode m = aircraft_mode(q, i);
+      avoiding += m == AircraftMode::avoid_right || m == AircraftMode::avoid_left;
+      arrived += m == AircraftMode::arrived;
+    }
+    y[1] = avoiding;
+    y[2] = arrived;
+  }
+
   std::string mode_name(Mode q) const {
     static constexpr char kLetter[8] = {'H', 'C', 'R', 'L', 'G', '?', '?', '?'};
     std::string s;
@@ -643,7 +661,15 @@ std::shared_ptr<const System> make_aircraft_system(const AircraftScenario& s, co
   shi.push_back(horizon);
   w.push_back(0.0);
   info.input_names = {"d1", "d2"};
-  info.parameter_names = {"p"};
+  info.input_units = {"km/s", "km/s"};
+  info.outputs = {{"separation", "km", "distance of the closest pair of flying aircraft"},
+                  {"avoiding", "", "aircraft in an avoidance half circle"},
+                  {"arrived", "", "aircraft at their goals"}};
+  info.requirements = {
+      {"A1", "always (safety > 0)", "the papers' property: no two flying aircraft closer than d"},
+      {"A2", "always (separation >= 2)", "separation of at least 2 km (twice d) at all times"},
+      {"A3", "always[0,600] (avoiding > 0 -> eventually[0,150] avoiding == 0)",
+       "every conflict is resolved (no aircraft avoiding) within 150 s"}};
   info.parameter_box = {{o.p_lo}, {o.p_hi}};
   info.parameters = {o.p_default};
   info.initial_mode = 0;  // every aircraft in heading mode

@@ -610,6 +610,12 @@ class Navigation {
     return true;
   }
   double spec(Mode, const double* x, const double*) const { return navigation_box_spec(unsafe_, x); }
+  // Signals for STL requirements: the position and the terrain (the mode).
+  void outputs(Mode q, const double* x, const double*, const double*, double* y) const {
+    y[0] = x[0];
+    y[1] = x[1];
+    y[2] = static_cast<double>(q);
+  }
   bool outside_unsafe(Mode, const double* x, const double*) const { return navigation_outside_box(unsafe_, x); }
   const InputSet& inputs(Mode q) const { return inputs_[static_cast<int>(maze_->vehicle(q))]; }
   // The driver (seed 002 Sect. 4.1.2): u is drawn from a state-dependent interval. RandomDriver's
@@ -701,6 +707,26 @@ Parsed parse(const Json& instance) {
   return p;
 }
 
+// STL requirements (ours; the instance's terrains are written into them): N1 the paper's property;
+// N2 "the unsafe terrain is not reached before the vehicle has passed through a checkpoint
+// terrain", the checkpoint being the unsafe terrain of the next property (or of the one after, if
+// that is this property's start or unsafe terrain): `not (A until B)` with A = not in the
+// checkpoint, B = unsafe (until: B at some sample, A from the start through it); N3 the property
+// over the first 20 s only.
+std::vector<DeclaredRequirement> navigation_requirements(const NavigationInstance& maze, int property) {
+  const auto& all = maze.properties();
+  const NavigationProperty& mine = all[property];
+  Mode checkpoint = maze.place_mode(mine.unsafe);
+  for (int k = 1; k < NavigationInstance::kProperties; ++k) {
+    checkpoint = maze.place_mode(all[(property + k) % NavigationInstance::kProperties].unsafe);
+    if (checkpoint != maze.place_mode(mine.unsafe) && checkpoint != maze.place_mode(mine.start)) break;
+  }
+  return {{"N1", "always (safety > 0)", "the paper's property: never in the unsafe terrain"},
+          {"N2", fmt::format("not ((terrain != {}) until (safety <= 0))", checkpoint),
+           fmt::format("the unsafe terrain is not reached before passing through terrain {}", checkpoint)},
+          {"N3", "always[0,20] (safety > 0)", "not in the unsafe terrain within the first 20 s"}};
+}
+
 std::shared_ptr<const System> make_navigation(const Json& instance) {
   const Parsed p = parse(instance);
   auto maze = std::make_shared<const NavigationInstance>(NavigationInstance::generate(p.n, p.seed, p.terrain_size));
@@ -713,6 +739,8 @@ std::shared_ptr<const System> make_navigation(const Json& instance) {
   info.instance = instance;
   info.state_names = {"x", "y", "theta", "a", "b"};
   info.input_names = {"u0", "u1"};
+  info.outputs = {{"x", "m", "position"}, {"y", "m", "position"}, {"terrain", "", "the terrain's index, row * n + col (the mode)"}};
+  info.requirements = navigation_requirements(*maze, p.property);
   info.initial_mode = maze->place_mode(prop.start);
   const auto b0 = maze->place_box(prop.start);
   info.initial_state = {0.5 * (b0[0] + b0[2]), 0.5 * (b0[1] + b0[3]), 0.0, 0.0, 0.0};

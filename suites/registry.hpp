@@ -17,6 +17,8 @@ SuiteEntry blimp_suite();
 SuiteEntry aircraft_suite();
 
 const std::vector<SuiteEntry>& all_suites();
+// A resolved instance as its key: the default (empty) requirement left out (registry.cpp).
+Json canonical_instance(Json instance);
 const SuiteEntry* find_suite(std::string_view name);
 
 }  // namespace hyfal

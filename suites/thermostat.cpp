@@ -18,6 +18,15 @@
 //  - x_rand is drawn from x1 in [1, 3], x2, x3 in [0, 10] min: the first ten minutes, where a
 //    counterexample can lie; sampling the whole hour only spreads the tree along x2.
 //  - RK4 with step δt: the flow is constant in each mode, so RK4 is exact.
+//
+// STL requirements (`--set requirement=T1`, or a formula over the signals temperature, time,
+// heater_time, heater, rate, safety; docs/requirements.md), ours:
+//  - T1 `always (safety > 0)`: the paper's property as a requirement.
+//  - T2 `always[0,60] (time < 2 or heater_time < 2 * time / 3)`: the same property written out
+//    over the signals (s > 0 iff x2 < 2 or x3 < 2/3 x2), bounded by the hour.
+//  - T3 `always[0,60] (heater == 1 -> eventually[0,0.8] heater == 0)`: no on-phase lasts longer
+//    than 0.8 min. From 1 to 3 degrees at rates in [2, 4] an on-phase lasts 0.5-1 min, so it is
+//    falsified by heating slowly (rate < 2.5 on average).
 #include <algorithm>
 #include <memory>
 #include <stdexcept>
@@ -56,6 +65,13 @@ class Thermostat {
     return std::max(2.0 / 3.0 * x[1] - x[2], 2.0 - x[1]);
   }
   const InputSet& inputs(Mode q) const { return q == kOn ? on_ : off_; }
+  // Signals for STL requirements: the state, and the heater (1 on, 0 off).
+  void outputs(Mode q, const double* x, const double*, const double*, double* y) const {
+    y[0] = x[0];
+    y[1] = x[1];
+    y[2] = x[2];
+    y[3] = q == kOn ? 1.0 : 0.0;
+  }
   std::string mode_name(Mode q) const { return q == kOn ? "on" : "off"; }
 
  private:
@@ -77,6 +93,15 @@ std::shared_ptr<const System> make_thermostat(const Json& instance) {
   info.instance = instance;
   info.state_names = {"temperature", "time", "heater_time"};
   info.input_names = {"rate"};
+  info.outputs = {{"temperature", "", "x1"},
+                  {"time", "min", "x2, time since the start"},
+                  {"heater_time", "min", "x3, time the heater has been on"},
+                  {"heater", "", "1 when on, 0 when off (the mode)"}};
+  info.input_units = {"1/min"};
+  info.requirements = {
+      {"T1", "always (safety > 0)", "the paper's unsafe set as a requirement"},
+      {"T2", "always[0,60] (time < 2 or heater_time < 2 * time / 3)", "the same property over the signals"},
+      {"T3", "always[0,60] (heater == 1 -> eventually[0,0.8] heater == 0)", "no on-phase longer than 0.8 min"}};
   info.initial_mode = Thermostat::kOn;
   info.initial_state = {2.0, 0.0, 0.0};
   info.sampling_box = {{1.0, 0.0, 0.0}, {3.0, window, window}};

@@ -49,6 +49,7 @@
 #include <deque>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <unordered_set>
@@ -152,6 +153,7 @@ struct Slot {
         neighbors(static_cast<std::size_t>(k)) {
     const Box& box = sys.info().sampling_box;
     for (std::size_t i = 0; i < box.dim(); ++i) uniform.emplace_back(box.lo[i], box.hi[i]);
+    if (sys.info().requirement) stl.emplace(sys);
   }
   std::unique_ptr<Propagator> prop;
   TimeToGo t2go;
@@ -168,6 +170,9 @@ struct Slot {
   std::vector<PropagationResult> results;
   std::vector<std::size_t> order;
   PlannerCounters counters;  // this slot's propagations and integration steps
+  // STL requirements: the monitor, and each input's samples until commit chooses one.
+  std::optional<stl::EdgeMonitor> stl;
+  std::vector<std::vector<double>> rows;
   // The proposal.
   std::size_t tree = 0;
   bool in_spec = false;
@@ -222,14 +227,17 @@ class EnhancedSearch {
       add_node(forest_.back(), kNoNode, info_.initial_mode, info_.initial_mode, x0, {}, 0.0, -1);
     }
     for (auto& t : forest_)
-      if (!out_.trajectory && sys_.spec(info_.initial_mode, t.nodes.state(0), p_) <= 0.0) finish_falsified(t, 0);
+      if (!out_.trajectory && starts_unsafe(sys_, info_.initial_mode, t.nodes.state(0), p_)) finish_falsified(t, 0);
   }
 
+  // `monitor`: the node's STL monitor state; `indexed` false: a settled node (STL), kept out of
+  // the nearest-neighbour index since no extension of it can falsify.
   NodeId add_node(Tree& t, NodeId parent, Mode edge_mode, Mode mode, std::span<const double> x,
-                  std::span<const double> u, double duration, int transition) {
+                  std::span<const double> u, double duration, int transition, std::span<const double> monitor = {},
+                  bool indexed = true) {
     const std::size_t n = info_.dim();
-    const NodeId id = t.nodes.add(parent, edge_mode, mode, x, u, duration, transition);
-    t.nn.add(id, x);
+    const NodeId id = t.nodes.add(parent, edge_mode, mode, x, u, duration, transition, monitor);
+    if (indexed) t.nn.add(id, x);
     t.applied.push_back(0);
     t.excluded.push_back(0);
     if (o_.history == History::tree) {
@@ -308,8 +316,7 @@ class EnhancedSearch {
       });
     }
     for (const auto& slot : slots_) {
-      out_.counters.propagations += slot->counters.propagations;
-      out_.counters.integration_steps += slot->counters.integration_steps;
+      out_.counters.add_work(slot->counters);
     }
   }
 
@@ -355,6 +362,7 @@ class EnhancedSearch {
     out_.metrics["failed_extensions_max"] = max_fail;
     if (o_.sampling == Sampling::adaptive) out_.metrics["excluded_nodes"] = excluded;
     out_.metrics["trees"] = forest_.size();
+    if (info_.requirement) out_.metrics["robustness"] = lowest_upper_;
     if (o_.record_failed_extensions) {  // seed 000 Fig. 6: n_j sorted in descending order
       std::sort(fails.begin(), fails.end(), std::greater<>());
       NamedSeries s{"failed_extensions_sorted", {}};
@@ -383,13 +391,18 @@ class EnhancedSearch {
     slot.states.resize(nu * n);
     slot.score.assign(nu, std::numeric_limits<double>::infinity());
     slot.results.resize(nu);
+    if (slot.stl && slot.rows.size() < nu) slot.rows.resize(nu);
     const bool by_t2go = o_.selection == Selection::t2go && o_.t2go_inputs;
     bool any_finite_t2go = false;
     for (std::size_t j = 0; j < nu; ++j) {
       std::span<double> xs(slot.states.data() + j * n, n);
+      if (slot.stl) slot.stl->begin(t.nodes, slot.near, slot.U.input(j), p, *slot.prop);
       slot.results[j] = slot.prop->propagate(q, x_near, slot.U.input(j), p, sys.info().step_duration, xs);
-      ++slot.counters.propagations;
-      slot.counters.integration_steps += slot.results[j].steps;
+      if (slot.stl) {
+        stl::EdgeMonitor::end(*slot.prop);
+        slot.stl->set_aside(slot.rows[j]);
+      }
+      RrtExtension::count(slot.results[j], slot.counters);
       if (!RrtExtension::makes_progress(slot.results[j])) continue;  // the no-progress filter
       if (by_t2go) {
         slot.score[j] = slot.t2go(slot.results[j].mode, xs, slot.x_rand);
@@ -446,6 +459,7 @@ class EnhancedSearch {
     const std::span<const double> x_new(slot.states.data() + chosen * n, n);
     const PropagationResult& r = slot.results[chosen];
     const double rho_before = metric.distance(t.nodes.state(near), slot.x_rand);
+    if (slot.stl) return commit_monitored(t, slot, near, chosen, x_new, rho_before);
     const NodeId id = add_node(t, near, slot.q, r.mode, x_new, slot.U.input(chosen), r.duration, r.transition);
     const bool successful = metric.distance(x_new, slot.x_rand) < rho_before;
     if (o_.sampling == Sampling::adaptive) {
@@ -453,6 +467,23 @@ class EnhancedSearch {
       record_beta(slot.in_spec, successful);
     }
     return RrtExtension::reached_unsafe(r) ? id : kNoNode;
+  }
+
+  // The end of commit() under an STL requirement: the chosen input's samples extend x_near's
+  // monitor state; the node falsifies when its robustness is bounded above by a negative number.
+  NodeId commit_monitored(Tree& t, Slot& slot, NodeId near, std::size_t chosen, std::span<const double> x_new,
+                          double rho_before) {
+    const PropagationResult& r = slot.results[chosen];
+    const stl::PrefixBounds& b = slot.stl->finish_with(t.nodes, near, slot.rows[chosen]);
+    lowest_upper_ = std::min(lowest_upper_, b.upper);
+    const NodeId id = add_node(t, near, slot.q, r.mode, x_new, slot.U.input(chosen), r.duration, r.transition,
+                               slot.stl->state(), !stl::EdgeMonitor::settled(b));
+    const bool successful = metric_.distance(x_new, slot.x_rand) < rho_before;
+    if (o_.sampling == Sampling::adaptive) {
+      if (slot.in_spec && !successful) t.excluded[near] = 1;
+      record_beta(slot.in_spec, successful);
+    }
+    return stl::EdgeMonitor::violated(b) ? id : kNoNode;
   }
 
   // Update β: one record per commit under adaptive sampling (III.5); β changes every N_s records.
@@ -568,6 +599,7 @@ class EnhancedSearch {
   NamedSeries coverage_series_{"coverage", {}}, beta_series_{"beta", {}};
   std::deque<Tree> forest_;  // trees never move (their NN index points into their own storage)
   PlannerOutcome out_;
+  double lowest_upper_ = std::numeric_limits<double>::infinity();  // STL: the lowest upper bound of any node
   std::int64_t iteration_ = 0;  // Alg. 3's iteration count (one per slot committed)
   bool stopped_ = false;        // a stop rule ended the search between two commits
 };

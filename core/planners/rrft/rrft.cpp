@@ -328,8 +328,7 @@ class ForestSearch {
     total_ = {};
     for (const auto& t : trees_) {
       total_.nodes += t->at_barrier.counters.nodes;
-      total_.propagations += t->at_barrier.counters.propagations;
-      total_.integration_steps += t->at_barrier.counters.integration_steps;
+      total_.add_work(t->at_barrier.counters);
     }
   }
 
@@ -400,7 +399,7 @@ class ForestSearch {
     t->nn->add(root, info_.initial_state);
     t->grid->add(info_.initial_state);
     t->counters.nodes = 1;
-    if (sys_.spec(info_.initial_mode, info_.initial_state, t->p) <= 0.0) t->leaf = root;
+    if (starts_unsafe(sys_, info_.initial_mode, info_.initial_state, t->p)) t->leaf = root;
     t->at_barrier.counters = t->counters;
     t->at_barrier.found = t->leaf != kNoNode;
     t->stopped = t->at_barrier.found;
@@ -699,8 +698,7 @@ class ForestSearch {
   void commit_slots(ForestTree& t, std::int64_t quota, const std::unique_ptr<RrftSlot>* slots) const {
     const std::size_t B = o_.batch;
     for (std::size_t s = 0; s < B; ++s) {  // every propagation of the round was made
-      t.counters.propagations += slots[s]->counters.propagations;
-      t.counters.integration_steps += slots[s]->counters.integration_steps;
+      t.counters.add_work(slots[s]->counters);
     }
     std::int64_t added = 0;
     for (std::size_t s = 0; s < B && added < quota && t.leaf == kNoNode; ++s) {

@@ -12,23 +12,31 @@
 //   no input made progress: nothing is added, n_j (failed_extensions) of x_near counts it;
 //   else x_new is added, and it "reached the unsafe set" when its propagation was stopped by
 //   it or ended with s <= 0.
+// With an STL requirement (SystemInfo::requirement) the unsafe set is the requirement's
+// violation instead: each candidate's trace is sampled, the kept one extends x_near's monitor
+// state (core/requirements/edge_monitor.hpp), and x_new falsifies when its prefix robustness's
+// upper bound is < 0. A node whose robustness is settled (>= 0 on every extension) is added to
+// the tree but not to the nearest-neighbour index: no extension could falsify from it.
 // Each step object owns its scratch (the input grid and two state buffers): one per tree and
 // slot, no allocation per step after the first use of the largest Ū.
 #pragma once
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "core/inputs.hpp"
 #include "core/nearest.hpp"
 #include "core/planner.hpp"
+#include "core/requirements/edge_monitor.hpp"
 #include "core/tree.hpp"
 
 namespace hyfal {
 
 struct RrtExtensionResult {
   NodeId node = kNoNode;        // the node added, kNoNode when no input made progress
-  bool reached_unsafe = false;  // the new node is in the unsafe set (s <= 0)
+  bool reached_unsafe = false;  // the new node is in the unsafe set (s <= 0) or violates the STL requirement
+  bool settled = false;         // STL: no extension of the new node can falsify (not indexed)
   bool added() const { return node != kNoNode; }
 };
 
@@ -40,7 +48,9 @@ struct RrtExtensionResult {
 class RrtExtension {
  public:
   RrtExtension(const System& system, const WeightedEuclidean& metric)
-      : system_(system), metric_(metric), inputs_(system), candidate_(system.info().dim()), x_new_(system.info().dim()) {}
+      : system_(system), metric_(metric), inputs_(system), candidate_(system.info().dim()), x_new_(system.info().dim()) {
+    if (system.info().requirement) stl_.emplace(system);
+  }
 
   // One extension of `tree` (indexed by `nn`) toward x_rand, propagating with `prop` under the
   // parameters p over the suite's δt. Counts propagations, integration steps and the node added
@@ -53,28 +63,40 @@ class RrtExtension {
 
   // Phases 1-2 from x_near = `near`: propagations and integration steps go to `counters`;
   // random inputs (if the suite's policy draws them) come from `rng`.
+  // by_robustness (STL only): u_new is the input whose new node has the lowest upper bound on
+  // its robustness (ties: the nearest to x_rand) instead of the nearest to x_rand.
   void propose(const NodeStore& tree, NodeId near, Propagator& prop, std::span<const double> x_rand,
-               std::span<const double> p, Rng& rng, PlannerCounters& counters) {
+               std::span<const double> p, Rng& rng, PlannerCounters& counters, bool by_robustness = false) {
     near_ = near;
     progress_ = false;
     const Mode q = tree.info(near).mode;
     const auto x_near = tree.state(near);
     inputs_.draw(q, x_near, rng);
     double best = std::numeric_limits<double>::infinity();
+    double best_upper = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < inputs_.count(); ++j) {
+      if (stl_) stl_->begin(tree, near, inputs_.input(j), p, prop);
       const PropagationResult r = prop.propagate(q, x_near, inputs_.input(j), p, system_.info().step_duration, candidate_);
-      ++counters.propagations;
-      counters.integration_steps += r.steps;
+      if (stl_) stl_->end(prop);
+      count(r, counters);
       if (!makes_progress(r)) continue;
       const double d = metric_.distance(x_rand, candidate_);
-      if (d < best) {
+      bool better = d < best;
+      if (by_robustness && stl_) {
+        const double upper = stl_->evaluate(tree, near).upper;
+        better = upper < best_upper || (upper == best_upper && d < best);
+        if (better) best_upper = upper;
+      }
+      if (better) {
         best = d;
         best_j_ = j;
         best_r_ = r;
         x_new_.swap(candidate_);
         progress_ = true;
+        if (stl_) stl_->keep();
       }
     }
+    if (stl_ && progress_) stl_->finish(tree, near);
     q_ = q;
   }
   // Phase 3: x_near's selection (and failure) counts; x_new added to the tree and the index.
@@ -84,12 +106,28 @@ class RrtExtension {
       tree.count_failure(near_);
       return {};
     }
-    const NodeId id = tree.add(near_, q_, best_r_.mode, x_new_, inputs_.input(best_j_), best_r_.duration, best_r_.transition);
-    nn.add(id, x_new_);
+    const NodeId id = tree.add(near_, q_, best_r_.mode, x_new_, inputs_.input(best_j_), best_r_.duration,
+                               best_r_.transition, stl_ ? stl_->state() : std::span<const double>());
     ++counters.nodes;
+    if (stl_) {
+      const stl::PrefixBounds& b = stl_->bounds();
+      const bool settled = stl::EdgeMonitor::settled(b);
+      if (!settled) nn.add(id, x_new_);
+      return {id, stl::EdgeMonitor::violated(b), settled};
+    }
+    nn.add(id, x_new_);
     return {id, reached_unsafe(best_r_)};
   }
   bool proposal_made_progress() const { return progress_; }
+  // STL: the bounds of the last proposal's node (after a propose() that made progress).
+  const stl::PrefixBounds* proposal_bounds() const { return stl_ ? &stl_->bounds() : nullptr; }
+
+  // One propagation's work, into `counters`.
+  static void count(const PropagationResult& r, PlannerCounters& counters) {
+    ++counters.propagations;
+    counters.integration_steps += r.steps;
+    counters.simulated_time += r.duration;
+  }
 
   // The no-progress filter: a propagation rejected at once, or one that ended after zero time
   // without a jump or the unsafe set, adds nothing to the tree.
@@ -110,6 +148,7 @@ class RrtExtension {
   bool progress_ = false;
   std::size_t best_j_ = 0;
   PropagationResult best_r_;
+  std::optional<stl::EdgeMonitor> stl_;  // with an STL requirement only
 };
 
 }  // namespace hyfal

@@ -17,8 +17,22 @@
 // adds. The first slot (in slot order) that reaches s <= 0 ends the search; the node cap is
 // checked before each commit, so it is exact. B = 1 is the sequential loop above, with the
 // trial's one stream.
+//
+// STL requirements (SystemInfo::requirement): the step falsifies when a node's prefix robustness
+// is bounded above by a negative number (rrt_extension.hpp). Robustness guidance, `robustness_bias`
+// = β > 0 (Dreossi et al., NFM 2015, and FalStar's adaptive tree search bias the choice of node
+// by robustness in the same spirit): each step (each slot) first draws a coin from its stream;
+// with probability β it extends the node that wins a tournament of kTournament nodes drawn
+// uniformly from the indexed (not settled) nodes, the lowest upper bound winning, with the input
+// whose new node has the lowest upper bound; otherwise it is the plain step. β = 0 draws nothing
+// (the paper's RRT, bit for bit).
 #pragma once
+#include <algorithm>
+#include <limits>
 #include <memory>
+#include <optional>
+#include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "core/nearest.hpp"
@@ -30,8 +44,64 @@
 
 namespace hyfal {
 
+// The robustness-guided choice of node (see above): the tree's indexed nodes, and their bounds.
+class RobustnessTournament {
+ public:
+  static constexpr int kTournament = 8;
+  explicit RobustnessTournament(double bias) : bias_(bias) {}
+  bool active() const { return bias_ > 0.0; }
+  void indexed(NodeId id) {
+    if (active()) open_.push_back(id);
+  }
+  // Whether this step is guided, and from which node (drawn from `rng`; nothing drawn at β = 0).
+  std::optional<NodeId> draw(Rng& rng, const NodeStore& tree) const {
+    if (!active() || std::uniform_real_distribution<double>(0.0, 1.0)(rng) >= bias_) return std::nullopt;
+    std::uniform_int_distribution<std::size_t> pick(0, open_.size() - 1);
+    NodeId best = open_[pick(rng)];
+    double best_upper = stl::EdgeMonitor::bounds_of(tree, best).upper;
+    for (int k = 1; k < kTournament; ++k) {
+      const NodeId c = open_[pick(rng)];
+      const double u = stl::EdgeMonitor::bounds_of(tree, c).upper;
+      if (u < best_upper) {
+        best = c;
+        best_upper = u;
+      }
+    }
+    return best;
+  }
+
+ private:
+  double bias_;
+  std::vector<NodeId> open_;
+};
+
+// What an STL search reports besides its status: the lowest upper bound on the robustness of any
+// node (the falsifying node's when one was found).
+struct LowestRobustness {
+  double upper = std::numeric_limits<double>::infinity();
+  void saw(const RrtExtensionResult& r, const RrtExtension& step) {
+    if (const stl::PrefixBounds* b = step.proposal_bounds(); b && r.added()) upper = std::min(upper, b->upper);
+  }
+  void report(const System& sys, PlannerOutcome& out) const {
+    if (sys.info().requirement) out.metrics["robustness"] = upper;
+  }
+};
+
+inline OptionSpec robustness_bias_option() {
+  return {"robustness_bias", 0.0,
+          "STL requirements: probability that a step extends a low-robustness node (tournament of 8 by the upper "
+          "bound) with the input of lowest upper bound; 0 = the paper's step",
+          "[0, 1]"};
+}
+// β > 0 needs a requirement to be guided by.
+inline void check_robustness_bias(const System& system, const Json& options) {
+  if (options.at("robustness_bias").get<double>() > 0.0 && !system.info().requirement)
+    throw std::invalid_argument("robustness_bias > 0 needs an STL requirement (--set requirement=...)");
+}
+
 template <class XRandSource>
-PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::size_t batch = 1) {
+PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::size_t batch = 1,
+                        double robustness_bias = 0.0) {
   const System& sys = ctx.system;
   const SystemInfo& info = sys.info();
   const std::size_t n = info.dim();
@@ -50,15 +120,19 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   const NodeId root = tree.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
   nn.add(root, info.initial_state);
   source.added(info.initial_state);
+  RobustnessTournament guided(robustness_bias);
+  guided.indexed(root);
+  LowestRobustness lowest;
   c.nodes = 1;
   auto finish = [&](std::optional<NodeId> leaf, TrialStatus status) {
     out.status = status;
     if (leaf) out.trajectory = trajectory_from_tree(sys, *prop, tree, *leaf, p);
     source.finish(out);
+    lowest.report(sys, out);
     if (ctx.trees) ctx.trees->add(0, tree);  // --save-trees: after the search, a copy
     return out;
   };
-  if (sys.spec(info.initial_mode, info.initial_state, p) <= 0.0) return finish(root, TrialStatus::falsified);
+  if (starts_unsafe(sys, info.initial_mode, info.initial_state, p)) return finish(root, TrialStatus::falsified);
 
   if (batch > 1) {
     // One scratch per slot: its step (input grid, state buffers), propagator and counters.
@@ -76,27 +150,31 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
     std::vector<double> x_rands(batch * n);
     std::vector<Neighbor> nearest(batch);
     std::vector<std::size_t> found(batch);
-    std::vector<Rng> slot_streams(batch);  // slot s's stream: its x_rand, then its random inputs
+    std::vector<Rng> slot_streams(batch);  // slot s's stream: its guidance coin, x_rand, its random inputs
+    std::vector<std::optional<NodeId>> guided_from(batch);
     for (std::uint64_t round = 0;; ++round) {
       if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
       for (std::size_t s = 0; s < batch; ++s) {  // select: the samples, in slot order
         slot_streams[s] = Rng(slot_seed(ctx.seed, round, s));
+        guided_from[s] = guided.draw(slot_streams[s], tree);
         source.sample(slot_streams[s], std::span<double>(x_rands.data() + s * n, n));
       }
       nn.knn_batch(x_rands, 1, nearest, found, ctx.cpu);  // x_near of every slot, one batch
       parallel_slots(batch, ctx.cpu, [&](std::size_t s) {  // propagate, against the frozen tree
         slots[s]->counters = {};
-        slots[s]->step.propose(tree, nearest[s].id, *slots[s]->prop,
-                               std::span<const double>(x_rands.data() + s * n, n), p, slot_streams[s], slots[s]->counters);
+        slots[s]->step.propose(tree, guided_from[s].value_or(nearest[s].id), *slots[s]->prop,
+                               std::span<const double>(x_rands.data() + s * n, n), p, slot_streams[s], slots[s]->counters,
+                               guided_from[s].has_value());
       });
       for (std::size_t s = 0; s < batch; ++s) {  // commit, in slot order
-        c.propagations += slots[s]->counters.propagations;
-        c.integration_steps += slots[s]->counters.integration_steps;
+        c.add_work(slots[s]->counters);
       }
       for (std::size_t s = 0; s < batch; ++s) {
         if (c.nodes >= ctx.limits.max_nodes) return finish(std::nullopt, TrialStatus::node_cap);
         const RrtExtensionResult r = slots[s]->step.commit(tree, nn, c);
         if (!r.added()) continue;
+        lowest.saw(r, slots[s]->step);
+        if (!r.settled) guided.indexed(r.node);
         source.added(tree.state(r.node));
         if (r.reached_unsafe) return finish(r.node, TrialStatus::falsified);
       }
@@ -107,9 +185,14 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   RrtExtension step(sys, metric);
   while (true) {
     if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
+    const std::optional<NodeId> from = guided.draw(rng, tree);
     source.sample(rng, x_rand);
-    const RrtExtensionResult r = step.extend(tree, nn, *prop, x_rand, p, rng, c);
+    const NodeId near = from ? *from : nn.nearest(x_rand).id;
+    step.propose(tree, near, *prop, x_rand, p, rng, c, from.has_value());
+    const RrtExtensionResult r = step.commit(tree, nn, c);
     if (!r.added()) continue;
+    lowest.saw(r, step);
+    if (!r.settled) guided.indexed(r.node);
     source.added(tree.state(r.node));
     if (r.reached_unsafe) return finish(r.node, TrialStatus::falsified);
   }
