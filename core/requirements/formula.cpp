@@ -439,6 +439,8 @@ std::string to_string(const Formula& f) { return f.nodes.empty() ? std::string()
 
 double Formula::horizon() const { return nodes.empty() ? 0.0 : horizon_of(*this, root()); }
 
+double Formula::horizon(int node) const { return horizon_of(*this, node); }
+
 int Formula::temporal_operators() const {
   int k = 0;
   for (const FormulaNode& n : nodes)

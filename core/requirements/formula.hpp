@@ -67,6 +67,8 @@ struct Formula {
   // How far past its start a trace must reach for every window to be inside it (the sum of the
   // interval ends along the deepest path; +inf with an unbounded operator).
   double horizon() const;
+  // The same for the subformula at node `node`: how far past a sample its value looks.
+  double horizon(int node) const;
   // The number of temporal operators (always, eventually, until).
   int temporal_operators() const;
 };

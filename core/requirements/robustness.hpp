@@ -21,6 +21,31 @@
 //    φ until[a,b] ψ: max over j in the window of min(ρ(ψ, j), min over i <= k <= j of ρ(φ, k))
 //    (φ must hold from i through j, inclusive).
 //  - robustness() is ρ(φ, 0): the trace's first sample. A trace falsifies φ when it is < 0.
+//
+// Prefixes (robustness_interval with final_trace = false): the trace may go on with samples at
+// times >= the last one's (a later sample may share the last time: a jump) and any values. The
+// interval returned holds ρ(φ, 0) of every such extension. It is interval arithmetic over a lower
+// and an upper row per node, on the trace plus ONE sentinel sample at the last time whose atoms
+// are [−inf, +inf]: atoms are exact on the known samples; not swaps and negates the bounds; and,
+// or, -> are monotone in each operand (-> decreasing in its left one); a temporal operator is the
+// same window min/max (until: max/min) of its operands' lower rows, and of their upper rows.
+// Why it is sound, by induction over the formula, for a known sample i and any extension:
+//  - The sentinel's windows hold the sentinel alone (nothing follows it), so every node is
+//    [−inf, +inf] there: it bounds every future sample's value of every subformula.
+//  - The known samples of i's window are the same in the extension and in the sentinel trace:
+//    if t_i + a < t_last, the start (the sample at t_i + a, else the one holding there) is
+//    decided by known samples; if t_i + a = t_last it is the first known sample at t_last; if
+//    t_i + a > t_last the sentinel trace's window is the sentinel alone ([−inf, +inf], sound).
+//    The end: if t_i + b < t_last it is known and no future sample enters; otherwise every known
+//    sample from the start on is in both, and the sentinel (time t_last <= t_i + b) is in the
+//    sentinel trace's window: exactly when a future sample could be in the extension's.
+//  - So over the window, min/max of the lower rows is <= the extension's min/max (each extension
+//    member is a known member of the sentinel window, or a future one covered by the sentinel's
+//    −inf), and min/max of the upper rows is >= it (each known member of the sentinel window is
+//    in the extension's window; the sentinel adds +inf, no constraint). For until, the φ-minimum
+//    from i through a known j involves known samples only, and a future j's term is at most the
+//    φ-minimum over the known samples from i, which is the sentinel's upper term.
+// It is sound, not always tightest (e.g. `a < 1 or not a < 1` is not recognised as >= 0).
 #pragma once
 #include <cstddef>
 #include <span>
@@ -38,6 +63,11 @@ struct TraceView {
   std::size_t samples() const { return time.size(); }
 };
 
+// The robustness interval of a trace prefix: every extension's ρ(φ, 0) lies in [lower, upper].
+struct Interval {
+  double lower, upper;
+};
+
 // Evaluates one formula on traces. Its buffers are kept between calls, so monitoring traces of
 // similar length allocates nothing after the first.
 class OfflineMonitor {
@@ -48,22 +78,43 @@ class OfflineMonitor {
   // ρ(φ, 0). The trace must have at least one sample and formula().signals.size() signals;
   // throws std::invalid_argument otherwise.
   double robustness(const TraceView& trace);
+  // The interval of ρ(φ, 0) over every extension of `trace` (see above); final_trace: the trace is
+  // complete, and the result is {r, r} with r = robustness(trace). Same preconditions.
+  Interval robustness_interval(const TraceView& trace, bool final_trace);
   // After robustness(): ρ of node `node` (a FormulaNode index) at every sample.
   std::span<const double> node_signal(int node) const;
+  // After robustness_interval() of a prefix: node `node`'s lower and upper rows, n + 1 values (the
+  // sentinel's last). After robustness() or a final trace's interval: node_signal(node), both.
+  std::span<const double> node_lower(int node) const;
+  std::span<const double> node_upper(int node) const;
 
  private:
+  std::size_t check(const TraceView& trace) const;
+  void prepare(std::size_t rows);
   void evaluate_expressions(const TraceView& trace);
-  void evaluate(int node, const TraceView& trace);
+  void evaluate(int node);
+  void evaluate_interval(int node, std::size_t known);
+  void compare(const FormulaNode& node, double* out, std::size_t count) const;
+  // out = the operator `node.op` applied to the rows l, r over the n_ samples (temporal operators:
+  // over the windows in start_, end_, which windows() computed).
+  void apply(const FormulaNode& node, const double* l, const double* r, double* out);
+  void windows(const FormulaNode& node);
   double* row(int node) { return nodes_.data() + static_cast<std::size_t>(node) * n_; }
+  double* upper_row(int node) { return upper_.data() + static_cast<std::size_t>(node) * n_; }
   const double* expression_row(int e) const { return expressions_.data() + static_cast<std::size_t>(e) * n_; }
 
   Formula formula_;
-  std::size_t n_ = 0;
-  std::vector<double> expressions_;  // [expression][sample]
-  std::vector<double> nodes_;        // [node][sample]
-  std::vector<double> scratch_;      // until: the untimed until, then the window max of ψ
-  std::vector<std::size_t> deque_;   // the monotone deque's indices (a ring never longer than n)
-  std::vector<std::size_t> start_, end_;  // each window's first and last sample
+  std::size_t n_ = 0;                   // samples evaluated: the trace's, plus a prefix's sentinel
+  bool exact_ = true;                   // the last evaluation was robustness() or of a final trace
+  std::span<const double> time_;        // the evaluated samples' times: the trace's or sentinel_time_
+  std::vector<double> sentinel_time_;   // a prefix's times, then the sentinel's (the last again)
+  std::vector<double> expressions_;     // [expression][sample]
+  std::vector<double> nodes_;           // [node][sample]; a prefix's lower rows
+  std::vector<double> upper_;           // [node][sample]: a prefix's upper rows
+  std::vector<double> scratch_;         // until: the untimed until, then the window max of ψ
+  std::vector<std::size_t> deque_;      // the monotone deque's indices (a ring never longer than n)
+  std::vector<std::size_t> start_, end_;  // each window's first sample and one past its last
+  std::vector<std::size_t> index_;      // until: 0, 1, ..., n − 1 (the lower ends of [i, s(i)))
 };
 
 // The window [s(i), e(i)] of every sample for the interval [a, b] (see above): O(n) with two
