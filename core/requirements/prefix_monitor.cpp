@@ -82,6 +82,41 @@ PrefixBounds PrefixMonitor::bounds(std::span<const double> state) {
 
 PrefixBounds PrefixMonitor::extend(std::span<const double> parent, std::span<const double> samples, bool final_trace,
                                    std::vector<double>& child) {
+  const std::size_t width = 1 + signals(), fresh = samples.size() / width;
+  const double last = check(parent, samples);
+  const bool first = parent[kSamples] == 0;
+  if (parent[kComplete] != 0.0) {  // nothing can change the bounds: only count the samples
+    child.assign(parent.begin(), parent.end());
+    child[kTime] = last;
+    child[kSamples] += static_cast<double>(fresh);
+    return bounds(child);
+  }
+  const std::span<const double> parent_tail = parent.subspan(header_);
+  load_tail(parent_tail, samples);
+  if (tail_ == 0) {  // nothing pending, nothing new: the bounds stand
+    if (first && final_trace) throw std::invalid_argument("requirement: a trace needs at least one sample");
+    child.assign(parent.begin(), parent.end());
+    if (final_trace) child[kComplete] = 1.0;
+    return bounds(child);
+  }
+  child.resize(header_ + tail_ * width);
+  double* state = child.data();
+  std::copy(parent.begin(), parent.begin() + static_cast<std::ptrdiff_t>(header_), state);
+  state[kTime] = last;
+  state[kSamples] += static_cast<double>(fresh);
+  const std::size_t folded = advance(state, first, final_trace);
+  for (std::size_t j = folded; j < tail_; ++j) {
+    const double* row = tail_row(parent_tail, samples, j);
+    std::copy(row, row + width, state + header_ + (j - folded) * width);
+  }
+  state[kPending] = static_cast<double>(tail_ - folded);
+  child.resize(header_ + (tail_ - folded) * width);
+  return bounds(child);
+}
+
+// Refuses a state of the wrong size and samples of the wrong width or out of time order; returns
+// the last sample's time after the extension.
+double PrefixMonitor::check(std::span<const double> parent, std::span<const double> samples) const {
   const std::size_t width = 1 + signals();
   if (parent.size() < header_ || parent.size() != header_ + static_cast<std::size_t>(parent[kPending]) * width)
     throw std::invalid_argument(fmt::format("requirement: a prefix state of {} doubles does not fit the formula", parent.size()));
@@ -94,29 +129,15 @@ PrefixBounds PrefixMonitor::extend(std::span<const double> parent, std::span<con
       throw std::invalid_argument(fmt::format("requirement: sample time {} after {}", samples[i], previous));
     previous = samples[i];
   }
-  if (parent[kComplete] != 0.0) {  // nothing can change the bounds: only count the samples
-    child.assign(parent.begin(), parent.end());
-    if (!samples.empty()) child[kTime] = previous;
-    child[kSamples] += static_cast<double>(samples.size() / width);
-    return bounds(child);
-  }
-  const std::span<const double> parent_tail = parent.subspan(header_);
-  load_tail(parent_tail, samples);
-  const bool first = parent[kSamples] == 0;
-  if (tail_ == 0) {  // nothing pending, nothing new: the bounds stand
-    if (first && final_trace) throw std::invalid_argument("requirement: a trace needs at least one sample");
-    child.assign(parent.begin(), parent.end());
-    if (final_trace) child[kComplete] = 1.0;
-    return bounds(child);
-  }
-  child.resize(header_ + tail_ * width);
-  double* state = child.data();
-  std::copy(parent.begin(), parent.begin() + static_cast<std::ptrdiff_t>(header_), state);
+  return samples.empty() ? parent[kTime] : previous;
+}
+
+// On the loaded tail: the interval rows, the top atoms (at sample 0), the bounds into the header,
+// then the folding of the leading samples every top temporal operator is done with, and the
+// complete flag. Returns how many tail samples were folded (all of them once complete).
+std::size_t PrefixMonitor::advance(double* state, bool first, bool final_trace) {
   if (first) state[kStart] = time_[0];
   const double t0 = state[kStart], t_last = time_[tail_ - 1];
-  state[kTime] = t_last;
-  state[kSamples] += static_cast<double>(samples.size() / width);
-
   monitor_.robustness_interval({time_, values_}, final_trace);
   if (first)
     for (std::size_t k = 0; k < atoms_.size(); ++k) state[atom_slot_ + k] = monitor_.node_lower(atoms_[k])[0];
@@ -124,32 +145,31 @@ PrefixBounds PrefixMonitor::extend(std::span<const double> parent, std::span<con
   const Interval root = skeleton(state, t0, count);
   state[kLower] = root.lower;
   state[kUpper] = root.upper;
-
   std::size_t folded = 0;
   while (folded < tail_ && foldable(folded, t0, t_last, final_trace)) fold(folded++, state, t0, count);
   if (final_trace || settled(t0, t_last) || root.lower == root.upper) {
     state[kComplete] = 1.0;
-    folded = tail_;  // nothing pending matters any more
+    return tail_;  // nothing pending matters any more
   }
-  const std::size_t parent_rows = parent_tail.size() / width;
-  for (std::size_t j = folded; j < tail_; ++j) {
-    const double* row = j < parent_rows ? parent_tail.data() + j * width : samples.data() + (j - parent_rows) * width;
-    std::copy(row, row + width, state + header_ + (j - folded) * width);
-  }
-  state[kPending] = static_cast<double>(tail_ - folded);
-  child.resize(header_ + (tail_ - folded) * width);
-  return bounds(child);
+  return folded;
+}
+
+// Tail sample j: the parent's pending rows first, then the new samples.
+const double* PrefixMonitor::tail_row(std::span<const double> parent_tail, std::span<const double> samples,
+                                      std::size_t j) const {
+  const std::size_t width = 1 + signals(), parent_rows = parent_tail.size() / width;
+  return j < parent_rows ? parent_tail.data() + j * width : samples.data() + (j - parent_rows) * width;
 }
 
 // The parent's pending samples, then the new ones, as OfflineMonitor reads a trace: times, then
 // each signal's values.
 void PrefixMonitor::load_tail(std::span<const double> parent_tail, std::span<const double> samples) {
-  const std::size_t width = 1 + signals(), parent_rows = parent_tail.size() / width;
-  tail_ = parent_rows + samples.size() / width;
+  const std::size_t width = 1 + signals();
+  tail_ = (parent_tail.size() + samples.size()) / width;
   time_.resize(tail_);
   values_.resize(signals() * tail_);
   for (std::size_t j = 0; j < tail_; ++j) {
-    const double* row = j < parent_rows ? parent_tail.data() + j * width : samples.data() + (j - parent_rows) * width;
+    const double* row = tail_row(parent_tail, samples, j);
     time_[j] = row[0];
     for (std::size_t s = 0; s + 1 < width; ++s) values_[s * tail_ + j] = row[1 + s];
   }

@@ -106,7 +106,9 @@ class PrefixMonitor {
     std::size_t slot;
   };
 
-  void mark_top(int node);
+  double check(std::span<const double> parent, std::span<const double> samples) const;
+  std::size_t advance(double* state, bool first, bool final_trace);
+  const double* tail_row(std::span<const double> parent_tail, std::span<const double> samples, std::size_t j) const;
   void load_tail(std::span<const double> parent_tail, std::span<const double> samples);
   double tail_time(std::size_t j) const;
   bool in_window(std::size_t j, std::size_t count, double from, double to) const;
