@@ -85,7 +85,7 @@ class PrefixMonitor {
   // sample-major: time, then the signals' values in the formula's order. Times non-decreasing and
   // >= the parent's last time. final_trace: the trace ends after these samples (no sentinel).
   // Writes the child's state to `child` (resized; may not alias parent) and returns its bounds.
-  // Throws std::invalid_argument on a malformed state or samples (a wrong row width, times out
+  // A complete parent's child is its copy with only the time and the sample count moved on. Throws std::invalid_argument on a malformed state or samples (a wrong row width, times out
   // of order or NaN, a final trace without any sample).
   PrefixBounds extend(std::span<const double> parent, std::span<const double> samples, bool final_trace,
                       std::vector<double>& child);
