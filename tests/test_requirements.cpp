@@ -3,7 +3,8 @@
 // against hand-computed values and against a brute-force O(n·w) evaluation written from the
 // definitions, on thousands of random formulas and traces (seeded). As in test_fuzz:
 // HYFAL_FUZZ_ITERATIONS scales both random tests' counts and HYFAL_FUZZ_SEED changes their seeds,
-// for longer runs by hand.
+// for longer runs by hand. The prefix monitor: its incremental bounds equal the offline interval on
+// every prefix, contain every extension's robustness, and its state stays small.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "core/requirements/formula.hpp"
+#include "core/requirements/prefix_monitor.hpp"
 #include "core/requirements/robustness.hpp"
 
 namespace hyfal::stl {
@@ -375,6 +377,255 @@ TEST(Robustness, AgreesWithTheBruteForceDefinitionsOnRandomFormulasAndTraces) {
   }
   EXPECT_EQ(checked, formulas);
   std::printf("[ brute force ] %d formulas, %ld node x sample values equal\n", checked, samples);
+}
+
+// --- prefix robustness ------------------------------------------------------------------------
+
+// A random trace over signals a, b (as in the brute-force test): steps of 0.25 k or 0.1 k, one in
+// six a jump (a repeated time), values on a grid of 0.5.
+struct RandomTrace {
+  std::vector<double> t, values;  // values signal-major, as TraceView reads them
+};
+RandomTrace random_trace(std::mt19937_64& rng, std::size_t n, double start = 0.0) {
+  RandomTrace tr{std::vector<double>(n), std::vector<double>(2 * n)};
+  double now = start;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0 && rng() % 6 != 0)
+      now += (rng() % 2) ? 0.25 * static_cast<double>(1 + rng() % 3) : 0.1 * static_cast<double>(1 + rng() % 7);
+    tr.t[i] = now;
+  }
+  for (double& v : tr.values) v = static_cast<double>(static_cast<int>(rng() % 13) - 6) * 0.5;
+  return tr;
+}
+
+// Samples [from, to) of a signal-major trace as PrefixMonitor rows: time, then each signal.
+std::vector<double> rows_of(const std::vector<double>& t, const std::vector<double>& values, std::size_t from,
+                            std::size_t to) {
+  const std::size_t n = t.size(), signals = values.size() / std::max<std::size_t>(n, 1);
+  std::vector<double> out;
+  for (std::size_t i = from; i < to; ++i) {
+    out.push_back(t[i]);
+    for (std::size_t s = 0; s < signals; ++s) out.push_back(values[s * n + i]);
+  }
+  return out;
+}
+
+// The first k samples of a signal-major trace.
+RandomTrace prefix_of(const RandomTrace& tr, std::size_t k) {
+  const std::size_t n = tr.t.size(), signals = tr.values.size() / n;
+  RandomTrace p{{tr.t.begin(), tr.t.begin() + static_cast<std::ptrdiff_t>(k)}, {}};
+  for (std::size_t s = 0; s < signals; ++s)
+    p.values.insert(p.values.end(), tr.values.begin() + static_cast<std::ptrdiff_t>(s * n),
+                    tr.values.begin() + static_cast<std::ptrdiff_t>(s * n + k));
+  return p;
+}
+
+// A random formula (random_formula), half the time under a top temporal operator with a longer
+// window, so that prefixes stay undecided for a while and samples are folded along the way.
+std::string random_prefix_formula(std::mt19937_64& rng) {
+  std::string inner = random_formula(rng, 1 + static_cast<int>(rng() % 4));
+  if (rng() % 2) return inner;
+  const int lo = static_cast<int>(rng() % 8), hi = lo + static_cast<int>(rng() % 40);
+  const std::string interval = "[" + std::to_string(lo * 0.25) + "," + std::to_string(hi * 0.25) + "]";
+  switch (rng() % 4) {
+    case 0: return "always" + interval + " " + inner;
+    case 1: return "eventually" + interval + " " + inner;
+    case 2: return "(" + inner + ") until" + interval + " (" + random_formula(rng, 2) + ")";
+    default: return "not always" + interval + " " + inner + " -> eventually" + interval + " (a > b)";
+  }
+}
+
+TEST(PrefixRobustness, IncrementalEqualsOfflineIntervalOnEveryPrefix) {
+  std::mt19937_64 rng(seed_or(7));
+  const std::vector<std::string> names{"a", "b"};
+  const int formulas = scaled(1500);
+  long prefixes = 0, decided = 0, folding = 0;
+  for (int k = 0; k < formulas; ++k) {
+    const Formula f = parse_requirement(random_prefix_formula(rng), names);
+    const RandomTrace tr = random_trace(rng, 1 + rng() % 100);
+    const std::size_t n = tr.t.size();
+    PrefixMonitor prefix(f);
+    OfflineMonitor offline(f);
+    std::vector<double> state, child, before_last;
+    prefix.initial_state(state);
+    for (std::size_t done = 0; done < n;) {
+      const std::size_t next = std::min(n, done + 1 + rng() % 20);
+      const std::vector<double> chunk = rows_of(tr.t, tr.values, done, next);
+      const PrefixBounds got = prefix.extend(state, chunk, false, child);
+      const RandomTrace p = prefix_of(tr, next);
+      const Interval want = offline.robustness_interval({p.t, p.values}, false);
+      ASSERT_EQ(got.lower, want.lower) << to_string(f) << " after " << next << " of " << n;
+      ASSERT_EQ(got.upper, want.upper) << to_string(f) << " after " << next << " of " << n;
+      EXPECT_EQ(got.complete, got.lower == got.upper);
+      EXPECT_EQ(got.samples, static_cast<std::int64_t>(next));
+      EXPECT_EQ(got.time, tr.t[next - 1]);
+      if (next == n) {  // the same last chunk again, as the trace's end
+        const PrefixBounds end = prefix.extend(state, chunk, true, before_last);
+        const double r = offline.robustness({tr.t, tr.values});
+        ASSERT_EQ(end.lower, r) << to_string(f);
+        ASSERT_EQ(end.upper, r) << to_string(f);
+        EXPECT_TRUE(end.complete);
+      }
+      decided += got.complete;
+      // Undecided, and some samples already folded away: the accumulators are at work.
+      folding += !got.complete && child.size() < prefix.header_size() + 3 * next;
+      ++prefixes;
+      std::swap(state, child);
+      done = next;
+    }
+    // Ending a trace with no new sample gives its robustness too.
+    const PrefixBounds end = prefix.extend(state, {}, true, child);
+    ASSERT_EQ(end.lower, offline.robustness({tr.t, tr.values})) << to_string(f);
+    ASSERT_EQ(end.upper, end.lower);
+  }
+  EXPECT_GT(folding, prefixes / 20);
+  std::printf("[ prefix ] %d formulas, %ld prefixes equal to the offline interval (%ld already decided, %ld undecided "
+              "with samples folded)\n", formulas, prefixes, decided, folding);
+}
+
+TEST(PrefixRobustness, PrefixBoundsContainEveryExtension) {
+  std::mt19937_64 rng(seed_or(11));
+  const std::vector<std::string> names{"a", "b"};
+  const int formulas = scaled(1000);
+  long extensions = 0, violated = 0, satisfied = 0;
+  for (int k = 0; k < formulas; ++k) {
+    const Formula f = parse_requirement(random_prefix_formula(rng), names);
+    const RandomTrace head = random_trace(rng, 1 + rng() % 30);
+    PrefixMonitor prefix(f);
+    OfflineMonitor offline(f);
+    std::vector<double> state, child;
+    prefix.initial_state(state);
+    const PrefixBounds b = prefix.extend(state, rows_of(head.t, head.values, 0, head.t.size()), false, child);
+    violated += b.upper < 0;
+    satisfied += b.lower > 0;
+    for (int c = 0; c < 6; ++c) {
+      // A continuation from the last time on (its first sample may share it: a jump).
+      const RandomTrace tail = random_trace(rng, rng() % 30, head.t.back() + (rng() % 2 ? 0.0 : 0.1));
+      const std::size_t n = head.t.size() + tail.t.size();
+      std::vector<double> t = head.t, values;
+      t.insert(t.end(), tail.t.begin(), tail.t.end());
+      for (std::size_t s = 0; s < 2; ++s) {
+        values.insert(values.end(), head.values.begin() + static_cast<std::ptrdiff_t>(s * head.t.size()),
+                      head.values.begin() + static_cast<std::ptrdiff_t>((s + 1) * head.t.size()));
+        values.insert(values.end(), tail.values.begin() + static_cast<std::ptrdiff_t>(s * tail.t.size()),
+                      tail.values.begin() + static_cast<std::ptrdiff_t>((s + 1) * tail.t.size()));
+      }
+      const double r = offline.robustness({t, values});
+      ASSERT_GE(r, b.lower) << to_string(f) << " prefix of " << head.t.size() << ", " << n << " samples";
+      ASSERT_LE(r, b.upper) << to_string(f) << " prefix of " << head.t.size() << ", " << n << " samples";
+      ++extensions;
+    }
+  }
+  EXPECT_GT(violated, 0);
+  EXPECT_GT(satisfied, 0);
+  std::printf("[ prefix ] %ld extensions inside their prefix's bounds (%ld prefixes already violating, %ld satisfying)\n",
+              extensions, violated, satisfied);
+}
+
+// Feeds (time, y1) samples one by one, non-final; returns every step's bounds.
+std::vector<PrefixBounds> feed(PrefixMonitor& m, const std::vector<std::pair<double, double>>& samples) {
+  std::vector<double> state, child;
+  m.initial_state(state);
+  std::vector<PrefixBounds> out;
+  for (const auto& [t, y] : samples) {
+    std::vector<double> row{t, y};
+    row.resize(1 + m.signals(), 0.0);
+    out.push_back(m.extend(state, row, false, child));
+    std::swap(state, child);
+  }
+  return out;
+}
+
+TEST(PrefixRobustness, HandCases) {
+  const std::vector<std::string> y{"y1"};
+  PrefixMonitor speed(parse_requirement("always[0,20] (y1 < 120)", y));
+  const std::vector<PrefixBounds> violated = feed(speed, {{0, 100}, {1, 110}, {3, 130}});
+  EXPECT_EQ(violated[0].lower, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(violated[0].upper, 20.0);
+  EXPECT_EQ(violated[2].upper, -10.0);  // violated at t = 3: a counterexample already
+  EXPECT_FALSE(violated[2].complete);
+  EXPECT_EQ(violated[2].time, 3.0);
+  EXPECT_EQ(violated[2].samples, 3);
+
+  std::vector<std::pair<double, double>> below;
+  for (int i = 0; i <= 25; ++i) below.push_back({i, 100.0 + (i % 5)});
+  const std::vector<PrefixBounds> held = feed(speed, below);
+  EXPECT_FALSE(held[20].complete);  // t = 20: a jump at 20 could still break it
+  EXPECT_TRUE(held[21].complete);
+  EXPECT_EQ(held[21].lower, 16.0);
+  EXPECT_EQ(held[21].upper, 16.0);
+  EXPECT_EQ(held[25].lower, 16.0);
+
+  PrefixMonitor reach(parse_requirement("eventually[0,5] y1 > 1", y));
+  const std::vector<PrefixBounds> reached = feed(reach, {{0, 0}, {1, 0.5}, {2, 3}, {2.5, 0}});
+  EXPECT_EQ(reached[1].upper, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(reached[1].lower, -0.5);
+  EXPECT_EQ(reached[2].lower, 2.0);  // satisfied at t = 2, whatever follows
+  EXPECT_GT(reached[3].lower, 0.0);
+
+  // A violated atom under `and` decides as soon as the other side's lower bound is above it.
+  PrefixMonitor atom(parse_requirement("y1 > 1 and eventually y1 > -10", y));
+  const std::vector<PrefixBounds> decided = feed(atom, {{0, 0}, {1, 5}});
+  EXPECT_TRUE(decided[0].complete);
+  EXPECT_EQ(decided[0].lower, -1.0);
+  EXPECT_EQ(decided[0].upper, -1.0);
+}
+
+TEST(PrefixRobustness, StateStaysSmall) {
+  PrefixMonitor m(parse_requirement("always[0,100] eventually[0,2] y1 > 0", std::vector<std::string>{"y1"}));
+  std::vector<double> state, child;
+  m.initial_state(state);
+  const std::size_t header = m.header_size(), width = 1 + m.signals(), chunk = 10;
+  std::size_t largest = 0;
+  PrefixBounds b;
+  for (int i = 0; i < 10000; i += static_cast<int>(chunk)) {
+    std::vector<double> rows;
+    for (int k = i; k < i + static_cast<int>(chunk); ++k) {
+      rows.push_back(k * 0.01);
+      rows.push_back(1.0 + std::sin(k * 0.001));
+    }
+    b = m.extend(state, rows, false, child);
+    std::swap(state, child);
+    largest = std::max(largest, state.size());
+    // Pending: the samples within the operand's 2 s horizon of the last, and the new chunk.
+    ASSERT_LE(state.size(), header + (201 + chunk + 3) * width) << "at sample " << i;
+  }
+  EXPECT_GT(largest, header + 150 * width);  // the 2 s are really kept
+  EXPECT_FALSE(b.complete);                   // t = 99.99: the window [0, 100] is still open
+  EXPECT_GT(b.upper, 0.0);
+  std::printf("[ prefix ] largest state: %zu doubles (header %zu + %zu samples)\n", largest, header,
+              (largest - header) / width);
+}
+
+TEST(PrefixRobustness, ExtendingACompleteStateChangesNothing) {
+  PrefixMonitor m(parse_requirement("always[0,2] y1 < 5", std::vector<std::string>{"y1"}));
+  std::vector<double> state, done, again;
+  m.initial_state(state);
+  const PrefixBounds b = m.extend(state, std::vector<double>{0, 1, 1, 2, 2, 3, 3, 4}, false, done);
+  ASSERT_TRUE(b.complete);
+  EXPECT_EQ(b.lower, 2.0);
+  EXPECT_EQ(done.size(), m.header_size());  // nothing pending
+  const PrefixBounds c = m.extend(done, std::vector<double>{4, 100, 5, -100}, false, again);
+  EXPECT_EQ(again.size(), done.size());
+  EXPECT_EQ(c.lower, 2.0);
+  EXPECT_EQ(c.upper, 2.0);
+  EXPECT_TRUE(c.complete);
+  EXPECT_EQ(c.samples, 6);  // only the count and the time move on
+  EXPECT_EQ(c.time, 5.0);
+  EXPECT_EQ(m.extend(done, {}, true, again).upper, 2.0);
+}
+
+TEST(PrefixRobustness, RefusesMalformedSamples) {
+  PrefixMonitor m(parse_requirement("always[0,2] y1 < 5", std::vector<std::string>{"y1", "y2"}));
+  std::vector<double> state, child;
+  m.initial_state(state);
+  EXPECT_THROW(m.extend(state, std::vector<double>{0, 1}, false, child), std::invalid_argument);  // rows of 3
+  EXPECT_THROW(m.extend(state, std::vector<double>{1, 0, 0, 0.5, 0, 0}, false, child), std::invalid_argument);
+  EXPECT_THROW(m.extend(state, std::vector<double>{std::nan(""), 0, 0}, false, child), std::invalid_argument);
+  EXPECT_THROW(m.extend(state, {}, true, child), std::invalid_argument);  // a trace without samples
+  m.extend(state, std::vector<double>{1, 0, 0}, false, child);
+  EXPECT_THROW(m.extend(child, std::vector<double>{0.5, 0, 0}, false, state), std::invalid_argument);  // back in time
+  EXPECT_THROW(m.extend(std::vector<double>{1, 2}, {}, false, state), std::invalid_argument);
 }
 
 }  // namespace
