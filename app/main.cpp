@@ -22,6 +22,7 @@
 #include "app/reproduce.hpp"
 #include "app/runner.hpp"
 #include "core/options.hpp"
+#include "core/requirements/requirement.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
 #include "parallel/cluster.hpp"
@@ -66,6 +67,17 @@ void print_setting(const OptionSpec& o) {
   fmt::print("      {:<36} {:<18} {}\n", fmt::format("--set {}={}", o.key, o.default_value.dump()), range, o.help);
 }
 
+// A suite's signals (for STL requirements) and the requirements it declares, as its default
+// instance has them.
+void print_signals(const System& system) {
+  std::string line;
+  for (const auto& s : stl::system_signals(system.info()))
+    line += fmt::format("{}{}{}", line.empty() ? "" : ", ", s.name, s.unit.empty() ? "" : " [" + s.unit + "]");
+  fmt::print("      signals: {}\n", line);
+  for (const auto& r : system.info().requirements)
+    fmt::print("      requirement {:<6} {}  ({})\n", r.id, r.formula, r.meaning);
+}
+
 // Every setting of every suite and method as one Markdown table (the README's parameter table).
 std::string settings_markdown() {
   std::string out = "| suite / method | setting | default | valid values | meaning |\n|---|---|---|---|---|\n";
@@ -93,6 +105,7 @@ int cmd_list(bool markdown) {
   for (const auto& s : all_suites()) {
     fmt::print("  {:<14} {}\n", s.name, s.description);
     for (const auto& p : s.parameters) print_setting(p);
+    print_signals(*s.make(resolve_options(s.parameters, {})));
   }
   fmt::print("methods:\n");
   for (const auto& m : all_methods()) {

@@ -670,6 +670,7 @@ std::shared_ptr<const System> make_aircraft_system(const AircraftScenario& s, co
       {"A2", "always (separation >= 2)", "separation of at least 2 km (twice d) at all times"},
       {"A3", "always[0,600] (avoiding > 0 -> eventually[0,150] avoiding == 0)",
        "every conflict is resolved (no aircraft avoiding) within 150 s"}};
+  info.parameter_names = {"p"};
   info.parameter_box = {{o.p_lo}, {o.p_hi}};
   info.parameters = {o.p_default};
   info.initial_mode = 0;  // every aircraft in heading mode

@@ -438,6 +438,11 @@ HydiceOptions parse_options(const Json& o, bool leads) {
 
 // HyDICE runs on the suite's region decomposition (seed 002 Sect. 3.2).
 void check_hydice_system(const System& sys, const Json&) {
+  // HyDICE's leads run to the decomposition's unsafe regions: an STL requirement names no region
+  // to reach (its violation is a property of a whole trace), so HyDICE searches reachability only.
+  if (sys.info().requirement)
+    throw std::invalid_argument("HyDICE needs target regions, which an STL requirement does not give "
+                                "(use rrt, rrt-dstar, rrft or enhanced-rrt; or requirement= empty for the unsafe set)");
   if (!sys.decomposition())
     throw std::invalid_argument(fmt::format("suite '{}' provides no region decomposition, which HyDICE needs",
                                             sys.info().suite));

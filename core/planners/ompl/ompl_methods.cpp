@@ -137,6 +137,9 @@ bool uses_grid(Kind k) { return k == Kind::syclop_rrt || k == Kind::syclop_est; 
 // std::invalid_argument naming what is missing (MethodEntry::check_system, and solve()).
 void check_ompl_system(Kind kind, const System& system) {
   const SystemInfo& info = system.info();
+  if (info.requirement)
+    throw std::invalid_argument("OMPL's planners search for a goal region; an STL requirement gives none (use rrt, "
+                                "rrt-dstar, rrft or enhanced-rrt)");
   if (info.input_names.empty())
     throw std::invalid_argument(fmt::format("suite '{}' has no inputs (OMPL's control planners need a control space)", info.suite));
   if (!uses_grid(kind)) return;
