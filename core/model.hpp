@@ -139,7 +139,9 @@ struct PropagationInterrupt {
 class SampleSink {
  public:
   virtual ~SampleSink() = default;
-  virtual void sample(double t, Mode q, std::span<const double> x) = 0;
+  // `safety`: s(q, x; p) when the caller has it at hand, NaN otherwise (the sink computes it if
+  // it needs it).
+  virtual void sample(double t, Mode q, std::span<const double> x, double safety) = 0;
   // True when the sink reads the `safety` signal: then entries into s <= 0 are localized and
   // sampled like events (without stopping, see Propagator::set_trace).
   virtual bool samples_unsafe_entries() const { return false; }

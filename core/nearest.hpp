@@ -68,12 +68,19 @@ class NearestNeighbors {
   explicit NearestNeighbors(const WeightedEuclidean& metric)
       : metric_(metric), points_(metric.dim()), index_(make_index(metric.dim(), points_)) {}
 
-  // Adds node `id` (ids must be added densely in order 0, 1, 2, ...). One writer at a time, and
-  // no query in flight.
+  // Adds node `id`. One writer at a time, and no query in flight. Ids added densely in order
+  // 0, 1, 2, ... index themselves; once one is skipped (an STL search leaves settled nodes out,
+  // core/planners/rrt/rrt_extension.hpp) the index keeps each point's id beside it.
   void add(NodeId id, std::span<const double> x) {
+    const std::size_t position = points_.count;
+    if (!sparse_ && id != position) {
+      sparse_ = true;
+      for (std::size_t i = 0; i < position; ++i) ids_.push_back(static_cast<NodeId>(i));
+    }
+    if (sparse_) ids_.push_back(id);
     metric_.project(x, std::span<double>(points_.append(), metric_.dim()));
     ++points_.count;
-    index_->add(id);
+    index_->add(static_cast<NodeId>(position));
   }
   // Adds the nodes first, first + 1, ... whose states are the rows of `states` (n values each).
   void add_batch(NodeId first, std::span<const double> states) {
@@ -112,7 +119,7 @@ class NearestNeighbors {
       d2 = d2_heap.data();
     }
     const std::size_t found = index_->knn(q, k, ids, d2);
-    for (std::size_t i = 0; i < found; ++i) out[i] = {ids[i], std::sqrt(d2[i])};
+    for (std::size_t i = 0; i < found; ++i) out[i] = {sparse_ ? ids_[ids[i]] : ids[i], std::sqrt(d2[i])};
     return found;
   }
   // Answers queries.size() / dim k-NN queries (rows of `queries`, dim values each) at once, in
@@ -194,6 +201,8 @@ class NearestNeighbors {
   const WeightedEuclidean& metric_;
   Points points_;
   std::unique_ptr<Index> index_;
+  bool sparse_ = false;      // some id was skipped: ids_[position] is the point's node id
+  std::vector<NodeId> ids_;
 };
 
 // Linear scan: the oracle the KD-tree is tested against.

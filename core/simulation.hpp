@@ -92,7 +92,7 @@ class ModelPropagator final : public Propagator {
         r.end = all_finite(x0_) ? PropagationEnd::jumped : PropagationEnd::rejected;
         r.spec = model_.spec(r.mode, x0_.data(), pp);
         std::copy(x0_.begin(), x0_.end(), out.begin());
-        if (sink_) sink_->sample(0.0, r.mode, x0_);  // the state before is the trace's last sample
+        if (sink_) sink_->sample(0.0, r.mode, x0_, kUnknownSafety);  // the state before is the trace's last sample
         return r;
       }
     }
@@ -228,6 +228,7 @@ class ModelPropagator final : public Propagator {
         { m.guard_peak(q, k, x, u, p) } -> std::convertible_to<double>;
         { m.guard_step_change(q, k) } -> std::convertible_to<double>;
       };
+  static constexpr double kUnknownSafety = std::numeric_limits<double>::quiet_NaN();
   static constexpr int kNoEvent = -2;
   static constexpr int kSpecEvent = -1;
 
@@ -371,21 +372,21 @@ class ModelPropagator final : public Propagator {
       }
       if (unsafe_t <= event_t && unsafe_t <= t1) {  // an entry, when it comes first (or with the event)
         state_at(field, t, unsafe_t, xt_);
-        sink_->sample(unsafe_t, q, xt_);
+        sink_->sample(unsafe_t, q, xt_, kUnknownSafety);
       }
       if (event != kNoEvent) {
         state_at(field, t, event_t, xt_);
-        sink_->sample(event_t, q, xt_);  // before the reset
+        sink_->sample(event_t, q, xt_, kUnknownSafety);  // before the reset
         r.duration = event_t;
         r.mode = model_.jump(q, event, xt_.data(), pp);
         r.transition = event;
         r.end = all_finite(xt_) ? PropagationEnd::jumped : PropagationEnd::rejected;
         r.spec = model_.spec(r.mode, xt_.data(), pp);
         std::copy(xt_.begin(), xt_.end(), out.begin());
-        if (r.end == PropagationEnd::jumped) sink_->sample(event_t, r.mode, xt_);  // after it
+        if (r.end == PropagationEnd::jumped) sink_->sample(event_t, r.mode, xt_, kUnknownSafety);  // after it
         return r;
       }
-      sink_->sample(t1, q, x1_);
+      sink_->sample(t1, q, x1_, watch_unsafe ? s1 : kUnknownSafety);
       std::swap(x0_, x1_);
       std::swap(g0_, g1_);
       if constexpr (kGuardPeaks) std::swap(h0_, h1_);

@@ -8,6 +8,7 @@
 // extension's input: an input signal's value at a sample is the input of the piece that reaches
 // it, and at the first sample the first piece's).
 #pragma once
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -34,7 +35,7 @@ class EdgeMonitor {
     const PrefixBounds b = PrefixMonitor::bounds(parent);
     if (b.samples == 0) {  // the root: its own sample first
       sampler_.begin(0.0, u, p, rows_);
-      sampler_.sample(0.0, tree.info(from).mode, tree.state(from));
+      sampler_.sample(0.0, tree.info(from).mode, tree.state(from), std::numeric_limits<double>::quiet_NaN());
     }
     sampler_.begin(b.time, u, p, rows_);
     prop.set_trace(&sampler_);

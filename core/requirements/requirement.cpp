@@ -1,6 +1,7 @@
 #include "core/requirements/requirement.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -129,7 +130,7 @@ void SignalSampler::begin(double t0, std::span<const double> u, std::span<const 
   rows_ = &rows;
 }
 
-void SignalSampler::sample(double t, Mode q, std::span<const double> x) {
+void SignalSampler::sample(double t, Mode q, std::span<const double> x, double safety) {
   const Requirement& r = requirement_;
   if (reads_outputs_) system_.outputs(q, x, u_, p_, outputs_);
   rows_->push_back(t0_ + t);
@@ -139,7 +140,7 @@ void SignalSampler::sample(double t, Mode q, std::span<const double> x) {
     else if (s < r.outputs + r.inputs)
       rows_->push_back(u_.empty() ? 0.0 : u_[s - r.outputs]);
     else
-      rows_->push_back(system_.spec(q, x, p_));
+      rows_->push_back(std::isnan(safety) ? system_.spec(q, x, p_) : safety);
   }
 }
 

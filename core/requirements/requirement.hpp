@@ -7,6 +7,7 @@
 // constant along a tree edge), and `safety` = s(q, x; p), so that reachability of s <= 0 is also
 // the requirement `always (safety > 0)`.
 #pragma once
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -50,7 +51,9 @@ class SignalSampler final : public SampleSink {
   std::size_t row_width() const { return 1 + requirement_.sources.size(); }
   // From now on samples go to `rows`, at t0 + t, with input u and parameters p (kept by reference).
   void begin(double t0, std::span<const double> u, std::span<const double> p, std::vector<double>& rows);
-  void sample(double t, Mode q, std::span<const double> x) override;
+  void sample(double t, Mode q, std::span<const double> x, double safety) override;
+  // A sample whose safety value is not at hand.
+  void sample(double t, Mode q, std::span<const double> x) { sample(t, q, x, std::numeric_limits<double>::quiet_NaN()); }
   bool samples_unsafe_entries() const override { return requirement_.reads_safety(); }
 
  private:

@@ -1,0 +1,286 @@
+// STL requirements inside the searches (issue 28): the `requirement` instance parameter (a
+// declared id or a formula, with one-line errors), every tree method falsifying an STL requirement
+// through the trial engine with validated witnesses (HyDICE and the OMPL planners refusing one),
+// reachability and `always (safety > 0)` giving the same verdicts on the same trajectories and
+// runs, the instance keys of reachability runs unchanged, results identical at any thread count
+// with batches and robustness guidance, and the validator refusing a witness whose trace does not
+// violate its requirement.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/options.hpp"
+#include "core/planners/rrt/rrt_loop.hpp"
+#include "core/requirements/requirement.hpp"
+#include "core/rng.hpp"
+#include "core/trajectory.hpp"
+#include "parallel/trial_engine.hpp"
+#include "suites/registry.hpp"
+
+namespace hyfal {
+namespace {
+
+namespace fs = std::filesystem;
+using Sets = std::vector<std::pair<std::string, std::string>>;
+
+std::shared_ptr<const System> make(const std::string& suite, const Sets& sets) {
+  const SuiteEntry* s = find_suite(suite);
+  return s->make(resolve_options(s->parameters, sets));
+}
+
+std::string error_of(const std::string& suite, const std::string& requirement) {
+  try {
+    make(suite, {{"requirement", requirement}});
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(built)";
+}
+
+TEST(StlRequirement, ADeclaredIdOrAFormulaOverTheSignals) {
+  const auto t3 = make("thermostat", {{"requirement", "T3"}});
+  const auto& r = *t3->info().requirement;
+  EXPECT_EQ(r.id, "T3");
+  EXPECT_EQ(r.text, "always[0,60] (heater == 1 -> eventually[0,0.8] heater == 0)");
+  EXPECT_EQ(r.formula.signals, std::vector<std::string>{"heater"});  // only what it reads
+  EXPECT_EQ(t3->info().instance.at("requirement"), "T3");          // the witness names it
+
+  const auto inline_formula = make("thermostat", {{"requirement", "always[0,5] (temperature < 2.9 and rate > 0)"}});
+  EXPECT_EQ(inline_formula->info().requirement->id, "");
+  EXPECT_EQ(inline_formula->info().requirement->formula.signals, (std::vector<std::string>{"temperature", "rate"}));
+
+  const auto reach = make("thermostat", {});
+  EXPECT_EQ(reach->info().requirement, nullptr);
+  EXPECT_FALSE(reach->info().instance.contains("requirement"));
+  EXPECT_EQ(canonical_instance(resolve_options(find_suite("thermostat")->parameters, {})).dump(),
+            R"({"horizon":60.0,"input_levels":5,"sample_window":10.0,"step":0.1})")
+      << "a reachability instance's key (and so its trial seeds) must not change";
+
+  EXPECT_EQ(error_of("thermostat", "always[0,60 (temperature < 3)"), "requirement: column 13: expected ']', found '('");
+  EXPECT_NE(error_of("thermostat", "always (speed < 120)").find("unknown signal 'speed'"), std::string::npos);
+  EXPECT_NE(error_of("thermostat", "T9").find("requirement: column"), std::string::npos);  // not an id: a formula
+}
+
+TEST(StlRequirement, EverySuiteHasItsInputsAndSafetyAsSignals) {
+  for (const SuiteEntry& s : all_suites()) {
+    const auto sys = s.make(resolve_options(s.parameters, {}));
+    const auto signals = stl::system_signals(sys->info());
+    ASSERT_FALSE(signals.empty());
+    EXPECT_EQ(signals.back().name, "safety") << s.name;
+    // Every declared requirement parses over its suite's signals.
+    for (const auto& d : sys->info().requirements) EXPECT_NO_THROW(make(s.name, {{"requirement", d.id}})) << d.id;
+  }
+}
+
+struct StlCase {
+  std::string suite;
+  Sets sets;
+  std::int64_t max_nodes;
+};
+
+// Small STL cases that every tree method falsifies within its node cap.
+std::vector<StlCase> stl_cases() {
+  return {{"thermostat", {{"requirement", "T3"}}, 2000},
+          {"thermostat", {{"requirement", "T1"}}, 200000},
+          {"navigation", {{"n", "2"}, {"requirement", "N3"}}, 3000},
+          {"aircraft", {{"example", "esposito5"}, {"requirement", "A2"}}, 3000}};
+}
+
+TEST(StlSearch, EveryTreeMethodFalsifiesAnStlRequirementAndItsWitnessValidates) {
+  const fs::path dir = fs::temp_directory_path() / ("hyfal-stl-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  struct Cell {
+    std::string what;
+    TrialJob job;
+    bool tree_method;
+    TrialRecord record;
+  };
+  std::vector<Cell> cells;
+  std::vector<std::pair<const MethodEntry*, Sets>> methods;
+  for (const MethodEntry& m : all_methods()) methods.push_back({&m, {}});
+  methods.push_back({find_method("rrt"), {{"robustness_bias", "0.5"}}});
+  methods.push_back({find_method("rrt"), {{"robustness_bias", "0.5"}, {"batch", "4"}}});
+  for (const StlCase& c : stl_cases()) {
+    const SuiteEntry* suite = find_suite(c.suite);
+    const Json instance = canonical_instance(resolve_options(suite->parameters, c.sets));
+    const auto sys = suite->make(instance);
+    for (const auto& [m, options] : methods) {
+      const bool tree_method = !m->name.starts_with("hydice") && !m->name.starts_with("ompl");
+      for (int t = 0; t < 2; ++t) {
+        Cell cell;
+        cell.what = m->name + " " + Json(options).dump() + " on " + instance.dump() + " trial " + std::to_string(t);
+        cell.tree_method = tree_method;
+        cell.job.key = {"stl", c.suite, instance.dump(), m->name, Json(options).dump(), t};
+        cell.job.system = sys;
+        cell.job.method = m;
+        cell.job.method_options = resolve_options(m->options, options);
+        cell.job.limits = {60.0, c.max_nodes};
+        cell.job.seed = trial_seed(11, c.suite, cell.job.key.instance, m->name + cell.job.key.config, t);
+        if (!tree_method) {  // refused up front, as the CLI does before anything is written
+          EXPECT_THROW(m->check_system(*sys, cell.job.method_options), std::invalid_argument) << cell.what;
+          continue;
+        }
+        if (m->check_system) EXPECT_NO_THROW(m->check_system(*sys, cell.job.method_options)) << cell.what;
+        cells.push_back(std::move(cell));
+      }
+    }
+  }
+  EngineOptions options;
+  options.witness_dir = dir.string();
+  options.threads = 2;
+  std::vector<TrialJob> jobs;
+  for (const Cell& c : cells) jobs.push_back(c.job);
+  std::map<std::string, std::size_t> cell_of;
+  const auto key_text = [](const TrialKey& k) { return k.instance + k.method + k.config + std::to_string(k.trial_index); };
+  for (std::size_t i = 0; i < cells.size(); ++i) cell_of[key_text(cells[i].job.key)] = i;
+  run_trials(jobs, options, [&](const TrialRecord& r) { cells.at(cell_of.at(key_text(r.key))).record = r; });
+
+  for (const Cell& c : cells) {
+    const TrialRecord& r = c.record;
+    EXPECT_EQ(r.status, TrialStatus::falsified) << c.what << ": " << r.error;
+    if (r.status != TrialStatus::falsified) continue;
+    EXPECT_TRUE(r.validated) << c.what;
+    const Json metrics = Json::parse(r.metrics);
+    ASSERT_TRUE(metrics.contains("robustness")) << c.what;
+    EXPECT_LT(metrics["robustness"].get<double>(), 0.0) << c.what;
+    std::ifstream in(r.witness);
+    const Witness w = witness_from_json(Json::parse(in));
+    ASSERT_TRUE(w.requirement) << c.what;
+    EXPECT_EQ(w.requirement->robustness, metrics["robustness"].get<double>()) << c.what;
+    const ValidationReport again = validate_witness(*c.job.system, w);
+    EXPECT_TRUE(again.valid) << c.what << ": " << again.reason;
+    ASSERT_TRUE(again.robustness) << c.what;
+    EXPECT_EQ(*again.robustness, w.requirement->robustness) << c.what;
+    if (std::isfinite(c.job.system->info().requirement->formula.horizon())) EXPECT_TRUE(metrics.contains("simulations"));
+  }
+  fs::remove_all(dir);
+}
+
+// The requirement `always (safety > 0)` and reachability of s <= 0 judge alike. Reachability
+// stops at the entry into s <= 0, located to 1e-12 s, so its witnesses end on the boundary, where
+// the requirement's robustness is 0 up to the integration error (the reachability validator
+// accepts s <= tolerance there, and so does this test); an STL search flows on past the entry,
+// and its witness's robustness, the lowest sampled s, is clearly negative. On the same instances
+// and seeds both searches falsify.
+TEST(StlSearch, ReachabilityAndAlwaysSafetyGiveTheSameVerdicts) {
+  struct Case {
+    std::string suite;
+    Sets sets;
+    std::string id;
+    bool stl_runs;  // also run the STL search
+  };
+  for (const Case& c : std::vector<Case>{{"thermostat", {}, "T1", true},
+                                         {"navigation", {{"n", "2"}}, "N1", true},
+                                         {"aircraft", {{"example", "esposito5"}}, "A1", true}}) {
+    Sets with = c.sets;
+    with.emplace_back("requirement", c.id);
+    const auto reach = make(c.suite, c.sets);
+    const auto stl_sys = make(c.suite, with);
+    const double tol = reach->info().witness_tolerance;
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      SCOPED_TRACE(c.suite + " seed " + std::to_string(seed));
+      auto rrt = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {}));
+      const PlannerOutcome a = rrt->solve({*reach, reach->info().parameters, seed, {60.0, 300000}});
+      ASSERT_EQ(a.status, TrialStatus::falsified);
+      const ValidationReport ra = validate_witness(*stl_sys, make_witness(*stl_sys, "rrt", 0, *a.trajectory));
+      ASSERT_TRUE(ra.robustness) << ra.reason;
+      EXPECT_LE(*ra.robustness, tol) << "the reachability witness reaches the boundary of s <= 0";
+      EXPECT_NEAR(*ra.robustness, validate_witness(*reach, make_witness(*reach, "rrt", 0, *a.trajectory)).final_spec, tol)
+          << "its lowest sample of s is where reachability stopped";
+      if (!c.stl_runs) continue;
+      const PlannerOutcome b = rrt->solve({*stl_sys, stl_sys->info().parameters, seed, {60.0, 300000}});
+      ASSERT_EQ(b.status, TrialStatus::falsified) << "the same verdict on the same instance and seed";
+      const ValidationReport rb = validate_witness(*stl_sys, make_witness(*stl_sys, "rrt", 0, *b.trajectory));
+      EXPECT_TRUE(rb.valid) << rb.reason;  // a sampled state with s < 0
+    }
+  }
+}
+
+// A trajectory that never comes near the unsafe set does not falsify `always (safety > 0)`: the
+// validator refuses it (exit 1 in `hyfal validate`), as it refuses it for reachability.
+TEST(StlSearch, TheValidatorRefusesATraceThatSatisfiesItsRequirement) {
+  const auto sys = make("thermostat", {{"requirement", "T1"}});
+  Trajectory t;
+  t.initial_mode = sys->info().initial_mode;
+  t.initial_x = sys->info().initial_state;
+  auto prop = sys->make_propagator();
+  std::vector<double> x = t.initial_x, next(3);
+  Mode q = t.initial_mode;
+  for (int i = 0; i < 5; ++i) {  // heat at 4, cool at -1: far from 2/3 of the time
+    TrajectoryPiece p;
+    p.mode = q;
+    p.u = {q == 1 ? 4.0 : -1.0};
+    p.x_start = x;
+    const PropagationResult r = prop->propagate(q, x, p.u, {}, 0.1, next);
+    p.duration = r.duration;
+    p.transition = r.transition;
+    x = next;
+    if (r.transition >= 0) {
+      std::vector<double> pre(3);
+      prop->flow(q, p.x_start, p.u, {}, r.duration, pre);
+      p.x_end = pre;
+    } else {
+      p.x_end = x;
+    }
+    q = r.mode;
+    t.pieces.push_back(p);
+  }
+  t.final_mode = q;
+  t.final_x = x;
+  t.final_spec = sys->spec(q, x, {});
+  Witness w = make_witness(*sys, "hand", 0, t);
+  const ValidationReport r = validate_witness(*sys, w);
+  EXPECT_FALSE(r.valid);
+  ASSERT_TRUE(r.robustness);
+  EXPECT_GT(*r.robustness, 0.0);
+  EXPECT_NE(r.reason.find("robustness"), std::string::npos) << r.reason;
+  // The same trajectory without a requirement in the witness: refused as not naming one.
+  w.requirement.reset();
+  EXPECT_NE(validate_witness(*sys, w).reason.find("records none"), std::string::npos);
+}
+
+// Batches and robustness guidance give the same trials at any thread count.
+TEST(StlSearch, ResultsDoNotDependOnTheThreadCount) {
+  const SuiteEntry* suite = find_suite("thermostat");
+  const Json instance = canonical_instance(resolve_options(suite->parameters, {{"requirement", "T1"}}));
+  const auto sys = suite->make(instance);
+  std::vector<TrialJob> jobs;
+  for (const Sets& options : std::vector<Sets>{{{"batch", "8"}, {"robustness_bias", "0.3"}}, {{"robustness_bias", "0.3"}}})
+    for (const char* method : {"rrt", "rrt-dstar"})
+      for (int t = 0; t < 3; ++t) {
+        TrialJob job;
+        job.key = {"stl", "thermostat", instance.dump(), method, Json(options).dump(), t};
+        job.system = sys;
+        job.method = find_method(method);
+        job.method_options = resolve_options(job.method->options, options);
+        job.limits = {60.0, 30000};
+        job.seed = trial_seed(5, "thermostat", job.key.instance, method + job.key.config, t);
+        jobs.push_back(job);
+      }
+  std::map<int, std::vector<std::string>> by_threads;
+  for (int threads : {1, 2}) {
+    EngineOptions options;
+    options.threads = threads;
+    std::vector<std::string>& out = by_threads[threads];
+    out.resize(jobs.size());
+    run_trials(jobs, options, [&](const TrialRecord& r) {
+      for (std::size_t i = 0; i < jobs.size(); ++i)
+        if (jobs[i].key == r.key)
+          out[i] = std::string(to_string(r.status)) + " " + std::to_string(r.nodes) + " " + r.metrics;
+    });
+  }
+  EXPECT_EQ(by_threads[1], by_threads[2]);
+  int falsified = 0;
+  for (const auto& s : by_threads[1]) falsified += s.starts_with("falsified");
+  EXPECT_GT(falsified, 0);
+}
+
+}  // namespace
+}  // namespace hyfal
