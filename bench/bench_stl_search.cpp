@@ -1,0 +1,81 @@
+// What monitoring an STL requirement costs inside a search: one RRT extension (every input of Ū
+// propagated from the node, the best kept; rrt_extension.hpp's propose) from the end of a path of
+// a given length, on the same system without a requirement (reachability) and with one (each
+// candidate's trace sampled, the kept one's monitor state extended). The monitored extension's
+// extra time over the plain one is the monitor's cost: it must stay flat in the prefix length and
+// small beside the simulation (issue 28: <= 10 % on thermostat and aircraft).
+//
+// Args: the prefix length in tree extensions (δt each). Thermostat δt = 0.1 min: 10 and 300
+// extensions are 1 and 30 minutes; aircraft (esposito5, no wind) δt = 20 s: 5 and 30 extensions
+// reach t = 40 s and 340 s (its first extensions end at once: the heading modes end at t = 0).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "bench/bench_support.hpp"
+#include "core/nearest.hpp"
+#include "core/planners/rrt/rrt_extension.hpp"
+#include "core/rng.hpp"
+#include "core/tree.hpp"
+
+namespace hyfal::bench {
+namespace {
+
+// A path of `length` extensions from the root, each toward the same far point (the first input
+// of Ū that makes progress, chosen by the extension itself), then extensions from its end
+// measured without committing them.
+void measure_extension(benchmark::State& state, const std::string& suite,
+                       std::vector<std::pair<std::string, std::string>> sets) {
+  const auto system = suite_instance(suite, sets);
+  const SystemInfo& info = system->info();
+  NodeStore tree(info.dim(), info.input_names.size());
+  const WeightedEuclidean metric(info.metric_weights);
+  NearestNeighbors nn(metric);
+  auto prop = system->make_propagator();
+  Rng rng(7);
+  PlannerCounters counters;
+  RrtExtension step(*system, metric);
+  NodeId end = tree.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
+  nn.add(end, info.initial_state);
+  const std::vector<double>& toward = info.sampling_box.hi;  // a far corner: the path keeps going
+  for (int i = 0; i < state.range(0); ++i) {
+    step.propose(tree, end, *prop, toward, info.parameters, rng, counters);
+    const RrtExtensionResult r = step.commit(tree, nn, counters);
+    if (!r.added()) {
+      state.SkipWithError("the path stopped growing");
+      return;
+    }
+    if (r.reached_unsafe) {
+      state.SkipWithError("the path falsified: pick another prefix length");
+      return;
+    }
+    end = r.node;
+  }
+  counters = {};
+  for (auto _ : state) {
+    step.propose(tree, end, *prop, toward, info.parameters, rng, counters);
+    benchmark::DoNotOptimize(step.proposal_made_progress());
+  }
+  state.counters["steps_per_extension"] =
+      benchmark::Counter(static_cast<double>(counters.integration_steps), benchmark::Counter::kAvgIterations);
+  if (const stl::PrefixBounds* b = step.proposal_bounds()) state.counters["prefix_time"] = b->time;
+}
+
+void BM_ExtendThermostat(benchmark::State& state) { measure_extension(state, "thermostat", {}); }
+void BM_ExtendThermostatT3(benchmark::State& state) {
+  measure_extension(state, "thermostat", {{"requirement", "T3"}});
+}
+void BM_ExtendAircraft(benchmark::State& state) { measure_extension(state, "aircraft", {{"w", "0"}}); }
+void BM_ExtendAircraftA3(benchmark::State& state) {
+  measure_extension(state, "aircraft", {{"w", "0"}, {"requirement", "A3"}});
+}
+
+BENCHMARK(BM_ExtendThermostat)->Arg(10)->Arg(300)->MinTime(0.3);
+BENCHMARK(BM_ExtendThermostatT3)->Arg(10)->Arg(300)->MinTime(0.3);
+BENCHMARK(BM_ExtendAircraft)->Arg(5)->Arg(30)->MinTime(0.3);
+BENCHMARK(BM_ExtendAircraftA3)->Arg(5)->Arg(30)->MinTime(0.3);
+
+}  // namespace
+}  // namespace hyfal::bench
