@@ -121,7 +121,7 @@ std::shared_ptr<const System> with_requirement(std::shared_ptr<const System> inn
 
 SignalSampler::SignalSampler(const System& system, const Requirement& requirement)
     : system_(system), requirement_(requirement), outputs_(system.info().outputs.size()),
-      reads_outputs_(requirement.reads_outputs()) {}
+      reads_outputs_(requirement.reads_outputs()), reads_safety_(requirement.reads_safety()) {}
 
 void SignalSampler::begin(double t0, std::span<const double> u, std::span<const double> p, std::vector<double>& rows) {
   t0_ = t0;

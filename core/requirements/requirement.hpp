@@ -54,13 +54,13 @@ class SignalSampler final : public SampleSink {
   void sample(double t, Mode q, std::span<const double> x, double safety) override;
   // A sample whose safety value is not at hand.
   void sample(double t, Mode q, std::span<const double> x) { sample(t, q, x, std::numeric_limits<double>::quiet_NaN()); }
-  bool samples_unsafe_entries() const override { return requirement_.reads_safety(); }
+  bool samples_unsafe_entries() const override { return reads_safety_; }
 
  private:
   const System& system_;
   const Requirement& requirement_;
   std::vector<double> outputs_;
-  bool reads_outputs_;
+  bool reads_outputs_, reads_safety_;
   double t0_ = 0.0;
   std::span<const double> u_, p_;
   std::vector<double>* rows_ = nullptr;
