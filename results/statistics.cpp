@@ -4,6 +4,8 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/math/statistics/univariate_statistics.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -163,6 +165,26 @@ SampleComparison compare_samples(std::span<const CensoredValue> x, std::span<con
   return comparison;
 }
 
+namespace {
+
+// A trial's STL figures from its metrics JSON, where it has them (finite numbers only).
+void requirement_metrics(const TrialRecord& trial, std::vector<double>& robustness, std::vector<double>& simulations) {
+  if (trial.metrics.find("robustness") == std::string::npos && trial.metrics.find("simulations") == std::string::npos)
+    return;  // most tables: no JSON parse per trial
+  const nlohmann::json m = nlohmann::json::parse(trial.metrics, nullptr, false);
+  if (!m.is_object()) return;
+  const auto number = [&](const char* key) -> std::optional<double> {
+    const auto it = m.find(key);
+    if (it == m.end() || !it->is_number()) return std::nullopt;
+    const double v = it->get<double>();
+    return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+  };
+  if (const auto r = number("robustness")) robustness.push_back(*r);
+  if (const auto s = number("simulations"); s && trial.status == TrialStatus::falsified) simulations.push_back(*s);
+}
+
+}  // namespace
+
 std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) {
   using GroupKey = std::tuple<std::string_view, std::string_view, std::string_view,
                               std::string_view>;  // views into trials, which outlive the map
@@ -170,6 +192,7 @@ std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) 
   std::vector<GroupSummary> groups;
   std::vector<std::vector<double>> wall_s_samples;
   std::vector<std::vector<double>> nodes_samples;
+  std::vector<std::vector<double>> robustness_samples, simulations_samples;
 
   for (const TrialRecord& trial : trials) {
     const TrialKey& key = trial.key;
@@ -184,6 +207,8 @@ std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) 
       groups.push_back(std::move(group));
       wall_s_samples.emplace_back();
       nodes_samples.emplace_back();
+      robustness_samples.emplace_back();
+      simulations_samples.emplace_back();
     }
     const std::size_t index = position->second;
     GroupSummary& group = groups[index];
@@ -200,6 +225,7 @@ std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) 
     if (trial.status != TrialStatus::error) {
       wall_s_samples[index].push_back(trial.wall_s);
       nodes_samples[index].push_back(static_cast<double>(trial.nodes));
+      requirement_metrics(trial, robustness_samples[index], simulations_samples[index]);
     }
   }
 
@@ -208,6 +234,8 @@ std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) 
     group.falsified_rate = static_cast<double>(group.falsified) / static_cast<double>(group.n);
     group.wall_s = summarize(wall_s_samples[index]);
     group.nodes = summarize(nodes_samples[index]);
+    group.robustness = summarize(robustness_samples[index]);
+    group.simulations = summarize(simulations_samples[index]);
   }
   return groups;
 }

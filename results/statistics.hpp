@@ -46,6 +46,13 @@ struct GroupSummary {
   double falsified_rate = 0.0;
   SampleSummary wall_s;
   SampleSummary nodes;
+  // STL requirements (a trial's metrics "robustness" and "simulations", parallel/trial_engine.cpp;
+  // n = 0 without): the robustness of every trial but errors (a falsified one's witness's, else
+  // the best upper bound found), and the simulation-equivalents of the falsified trials (what
+  // ARCH-COMP reports: simulations of the successful runs).
+  SampleSummary robustness;
+  SampleSummary simulations;
+  bool has_requirement_data() const { return robustness.n > 0 || simulations.n > 0; }
 };
 
 // Whether a trial's time and nodes are right-censored: the trial was stopped by the time limit or

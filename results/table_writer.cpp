@@ -73,6 +73,11 @@ std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<
   for (const char* name : {"n", "falsified", "rate", "time median (s)", "time mean ± 95% CI (s)",
                            "time std", "nodes median", "nodes mean ± 95% CI", "nodes std", "timeouts"})
     header.emplace_back(name);
+  // STL requirements: robustness and simulation-equivalents, where some group has them.
+  const bool stl = std::any_of(groups.begin(), groups.end(), [](const GroupSummary& g) { return g.has_requirement_data(); });
+  if (stl)
+    for (const char* name : {"robustness median", "simulations median (falsified)", "simulations mean (falsified)"})
+      header.emplace_back(name);
 
   std::string table = markdown_row(header);
   std::vector<std::string> separator;
@@ -97,6 +102,11 @@ std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<
     row.push_back(mark_censored(format_mean_with_ci(group.nodes, format_count), censored));
     row.push_back(format_count(group.nodes.stddev));  // a spread, not a bound: never marked
     row.push_back(stopped_trials_cell(group));
+    if (stl) {
+      row.push_back(format_time(group.robustness.median));
+      row.push_back(format_time(group.simulations.median));
+      row.push_back(format_time(group.simulations.mean));
+    }
     table += markdown_row(row);
   }
 
@@ -123,6 +133,8 @@ std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPl
       "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
       "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
       "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high";
+  const bool stl = std::any_of(groups.begin(), groups.end(), [](const GroupSummary& g) { return g.has_requirement_data(); });
+  if (stl) csv += ",robustness_median,simulations_n,simulations_mean,simulations_median";
   for (const std::string& name : extra_header) csv += "," + csv_field(name);
   csv += kLineEnd;
   for (std::size_t i = 0; i < groups.size(); ++i) {
@@ -154,6 +166,9 @@ std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPl
         csv_number(group.nodes.ci_high),
     };
     csv += fmt::format("{}", fmt::join(fields, ","));
+    if (stl)
+      csv += fmt::format(",{},{},{},{}", csv_number(group.robustness.median),
+                         group.simulations.n, csv_number(group.simulations.mean), csv_number(group.simulations.median));
     if (i < extra.size())
       for (const std::string& field : extra[i]) csv += "," + csv_field(field);
     csv += kLineEnd;

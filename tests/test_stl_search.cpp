@@ -22,6 +22,8 @@
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
 #include "parallel/trial_engine.hpp"
+#include "results/statistics.hpp"
+#include "results/table_writer.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {
@@ -280,6 +282,43 @@ TEST(StlSearch, ResultsDoNotDependOnTheThreadCount) {
   int falsified = 0;
   for (const auto& s : by_threads[1]) falsified += s.starts_with("falsified");
   EXPECT_GT(falsified, 0);
+}
+
+}  // namespace
+}  // namespace hyfal
+
+namespace hyfal {
+namespace {
+
+TrialRecord stl_trial(TrialStatus status, const std::string& metrics) {
+  TrialRecord r;
+  r.key = {"e", "thermostat", R"({"requirement":"T3"})", "rrt", "{}", 0};
+  r.status = status;
+  r.metrics = metrics;
+  return r;
+}
+
+// `hyfal table` shows the robustness of every trial and the simulations of the falsified ones,
+// and leaves the columns out where no trial has them (every reachability table stays as it was).
+TEST(StlResults, TablesShowRobustnessAndSimulations) {
+  std::vector<TrialRecord> trials = {stl_trial(TrialStatus::falsified, R"({"robustness":-0.5,"simulations":2.0})"),
+                                     stl_trial(TrialStatus::falsified, R"({"robustness":-0.25,"simulations":4.0})"),
+                                     stl_trial(TrialStatus::node_cap, R"({"robustness":0.75,"simulations":9.0})")};
+  for (std::size_t i = 0; i < trials.size(); ++i) trials[i].key.trial_index = static_cast<std::int64_t>(i);
+  const auto groups = summarize_trials(trials);
+  ASSERT_EQ(groups.size(), 1u);
+  EXPECT_EQ(groups[0].robustness.n, 3u);
+  EXPECT_DOUBLE_EQ(groups[0].robustness.median, -0.25);
+  EXPECT_EQ(groups[0].simulations.n, 2u);  // the falsified trials only
+  EXPECT_DOUBLE_EQ(groups[0].simulations.mean, 3.0);
+  const std::string md = to_markdown(groups);
+  EXPECT_NE(md.find("robustness median"), std::string::npos);
+  EXPECT_NE(md.find("| -0.250 | 3.00 | 3.00 |"), std::string::npos) << md;
+  EXPECT_NE(to_csv(groups).find("robustness_median,simulations_n,simulations_mean,simulations_median"), std::string::npos);
+
+  const auto plain = summarize_trials(std::vector<TrialRecord>{stl_trial(TrialStatus::falsified, "{}")});
+  EXPECT_EQ(to_markdown(plain).find("robustness"), std::string::npos);
+  EXPECT_EQ(to_csv(plain).find("robustness"), std::string::npos);
 }
 
 }  // namespace
