@@ -238,6 +238,11 @@ std::vector<BadCase> bad_cases() {
   // run: names
   add("UnknownSuite", run_out({"--suite", "nosuch"}));
   add("UnknownMethod", run_out({"--suite", "thermostat", "--method", "nosuch"}));
+  // run: STL requirements (issue 28)
+  add("RequirementSyntax", run_out({"--suite", "thermostat", "--set", "requirement=always[0,60 (temperature < 3)"}));
+  add("RequirementUnknownSignal", run_out({"--suite", "thermostat", "--set", "requirement=always (speed < 120)"}));
+  add("RequirementForHydice", run_out({"--suite", "navigation", "--method", "hydice", "--set", "requirement=N1"}));
+  add("RobustnessBiasWithoutRequirement", run_out({"--suite", "thermostat", "--set", "robustness_bias=0.5"}));
   add("MissingSuite", run_out({}));
   add("UnknownOption", run_out({"--suite", "thermostat", "--bogus", "1"}));
   // run: numbers
@@ -485,6 +490,30 @@ TEST_F(CliTest, ValidateRejectsWitnessWithWrongRecordedFinalSpec) {
   const Result r = hyfal({"validate", "bad.json"});
   EXPECT_EQ(r.code, 1) << r;
   EXPECT_EQ(r.out.rfind("INVALID", 0), 0u) << r;
+}
+
+// An STL witness records its robustness; a witness whose recorded value is not what the
+// re-simulation finds is refused (exit 1), and the untouched one is valid.
+TEST_F(CliTest, ValidateChecksAnStlWitnessesRobustness) {
+  const fs::path db = work() / "db.sqlite", wit = work() / "wit";
+  const Result r = hyfal({"run", "--suite", "thermostat", "--trials", "1", "--threads", "1", "--db", db.string(),
+                          "--witness-dir", wit.string(), "--set", "requirement=T3"});
+  ASSERT_EQ(r.code, 0) << r;
+  fs::path w;
+  for (const auto& e : fs::recursive_directory_iterator(wit))
+    if (e.path().extension() == ".json") w = e.path();
+  ASSERT_FALSE(w.empty());
+  const Result ok = hyfal({"validate", w.string()});
+  EXPECT_EQ(ok.code, 0) << ok;
+  EXPECT_TRUE(contains(ok.out, "robustness -0.5")) << ok;
+  Json j = Json::parse(read_text(w));
+  ASSERT_TRUE(j.contains("requirement"));
+  EXPECT_EQ(j["requirement"]["id"], "T3");
+  j["requirement"]["robustness"] = -9.0;
+  write_text(work() / "bad.json", j.dump(1));
+  const Result bad = hyfal({"validate", "bad.json"});
+  EXPECT_EQ(bad.code, 1) << bad;
+  EXPECT_TRUE(contains(bad.out, "differs from the recorded -9")) << bad;
 }
 
 // ---------------------------------------------------------------------------------------------
