@@ -1,0 +1,100 @@
+#include "core/requirements/simulate.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "core/requirements/robustness.hpp"
+
+namespace hyfal::stl {
+
+namespace {
+
+// Records every signal of the system at each sample: outputs, the current input, s.
+class AllSignals final : public SampleSink {
+ public:
+  AllSignals(const System& system, SimulatedTrace& trace, std::span<const double> p)
+      : system_(system), trace_(trace), p_(p), outputs_(system.info().outputs.size()) {
+    trace_.signals.resize(system_signals(system.info()).size());
+  }
+  void begin(double t0, std::span<const double> u) {
+    t0_ = t0;
+    u_ = u;
+  }
+  void sample(double t, Mode q, std::span<const double> x, double safety) override {
+    if (!outputs_.empty()) system_.outputs(q, x, u_, p_, outputs_);
+    trace_.time.push_back(t0_ + t);
+    std::size_t s = 0;
+    for (double y : outputs_) trace_.signals[s++].push_back(y);
+    for (double u : u_) trace_.signals[s++].push_back(u);
+    trace_.signals[s].push_back(std::isnan(safety) ? system_.spec(q, x, p_) : safety);
+  }
+  bool samples_unsafe_entries() const override { return true; }
+
+ private:
+  const System& system_;
+  SimulatedTrace& trace_;
+  std::span<const double> p_;
+  std::vector<double> outputs_;
+  double t0_ = 0.0;
+  std::span<const double> u_;
+};
+
+}  // namespace
+
+SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
+  const SystemInfo& info = system.info();
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    if (pieces[i].u.size() != info.input_names.size())
+      throw std::invalid_argument(fmt::format("input piece {}: {} values, the system has {} inputs", i,
+                                              pieces[i].u.size(), info.input_names.size()));
+    if (!(pieces[i].duration >= 0.0 && std::isfinite(pieces[i].duration)))
+      throw std::invalid_argument(fmt::format("input piece {}: duration {} is not a finite number >= 0", i,
+                                              pieces[i].duration));
+  }
+  SimulatedTrace trace;
+  AllSignals sink(system, trace, p);
+  const auto prop = system.make_propagator();
+  prop->set_trace(&sink);
+  Mode q = info.initial_mode;
+  std::vector<double> x = info.initial_state, next(x.size());
+  const std::vector<double> no_input(info.input_names.size(), 0.0);
+  sink.begin(0.0, pieces.empty() ? std::span<const double>(no_input) : std::span<const double>(pieces[0].u));
+  sink.sample(0.0, q, x, std::nan(""));  // the first sample, with the first piece's input
+  double t = 0.0;
+  constexpr int kMaxJumpsAtOneInstant = 10000;
+  for (const InputPiece& piece : pieces) {
+    double left = piece.duration;
+    int jumps_here = 0;
+    while (left > 1e-12 * std::max(1.0, piece.duration)) {
+      sink.begin(t, piece.u);
+      const PropagationResult r = prop->propagate(q, x, piece.u, p, left, next);
+      if (r.end == PropagationEnd::rejected || r.end == PropagationEnd::invariant) {
+        trace.end = r.end;
+        return trace;
+      }
+      jumps_here = r.duration > 0.0 ? 0 : jumps_here + 1;
+      if (jumps_here > kMaxJumpsAtOneInstant) {
+        trace.end = PropagationEnd::rejected;
+        return trace;
+      }
+      x.swap(next);
+      q = r.mode;
+      t += r.duration;
+      left -= r.duration;
+    }
+  }
+  return trace;
+}
+
+double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {
+  const std::size_t n = trace.samples();
+  std::vector<double> values;
+  values.reserve(requirement.sources.size() * n);
+  for (int s : requirement.sources) values.insert(values.end(), trace.signals[s].begin(), trace.signals[s].end());
+  OfflineMonitor monitor(requirement.formula);
+  return monitor.robustness(TraceView{trace.time, values});
+}
+
+}  // namespace hyfal::stl

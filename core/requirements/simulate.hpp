@@ -1,0 +1,41 @@
+// Simulating a system under a given input signal, sampled as the searches sample (STL mode of the
+// propagator: every integration step, both sides of every transition, entries into s <= 0):
+// what `hyfal simulate` writes, and how a test or a user checks a model or replays someone
+// else's counterexample (an ARCH-COMP input CSV).
+#pragma once
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "core/requirements/requirement.hpp"
+
+namespace hyfal::stl {
+
+// u held for `duration` seconds.
+struct InputPiece {
+  double duration = 0.0;
+  std::vector<double> u;
+};
+
+// Every signal of the system (system_signals order) at every sample.
+struct SimulatedTrace {
+  std::vector<double> time;
+  std::vector<std::vector<double>> signals;  // [signal][sample]
+  // How the simulation ended: completed (every piece flowed), invariant (the system's invariant,
+  // e.g. its horizon, ended it early: the trace stops there), rejected (a non-finite state, or
+  // more than 10^4 transitions at one instant).
+  PropagationEnd end = PropagationEnd::completed;
+  std::size_t samples() const { return time.size(); }
+};
+
+// Simulates `system` from its initial state with parameters p under `pieces` (each u of the
+// system's input dimension). Throws std::invalid_argument on a piece of the wrong size or a
+// negative or non-finite duration.
+SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p);
+
+// The robustness of a simulated trace for a requirement of the same system (its sources index
+// the trace's signals).
+double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace);
+
+}  // namespace hyfal::stl
