@@ -21,6 +21,7 @@
 #include "app/plot.hpp"
 #include "app/reproduce.hpp"
 #include "app/runner.hpp"
+#include "app/simulate.hpp"
 #include "core/options.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/rng.hpp"
@@ -393,6 +394,9 @@ struct CommandLine {
   std::vector<std::string> instance_sets;
   cli::PlotArgs plot_args;
   std::string witness_file;
+  cli::SimulateArgs simulate_args;
+  std::string witness_csv_file, witness_csv_format = "arch-csv", witness_csv_output;
+  CLI::App *simulate = nullptr, *witness = nullptr;
   CLI::App *list = nullptr, *run = nullptr, *table = nullptr, *reproduce = nullptr, *merge = nullptr,
            *instance_export = nullptr, *plot = nullptr, *validate = nullptr;
   CLI::Option* run_suite = nullptr;
@@ -532,6 +536,25 @@ void add_validate_command(CommandLine& c) {
   c.validate->add_option("file", c.witness_file, "witness JSON file")->required();
 }
 
+// simulate --suite S [--set k=v]... --input FILE.csv [--trace OUT.csv]
+void add_simulate_command(CommandLine& c) {
+  auto* s = c.simulate = c.app.add_subcommand(
+      "simulate", "drive a suite instance with an input signal (ARCH-COMP CSV: time, then one column per input; "
+                  "piecewise constant); print each requirement's robustness, optionally write the trace");
+  s->add_option("--suite", c.simulate_args.suite, "suite name")->required();
+  s->add_option("--set", c.simulate_args.sets, "instance parameter, key=value (repeatable; requirement=... adds one)");
+  s->add_option("--input", c.simulate_args.input, "the input CSV (a header row time,<inputs> is optional)")->required();
+  s->add_option("--trace", c.simulate_args.trace, "write the trace (time and every signal) as CSV to this file; - for stdout");
+}
+
+// witness FILE --format arch-csv [-o OUT]
+void add_witness_command(CommandLine& c) {
+  auto* w = c.witness = c.app.add_subcommand("witness", "convert a witness: its input signal as an ARCH-COMP validation CSV");
+  w->add_option("file", c.witness_csv_file, "witness JSON file")->required();
+  w->add_option("--format", c.witness_csv_format, "output format")->check(CLI::IsMember({"arch-csv"}));
+  w->add_option("-o,--output", c.witness_csv_output, "output file (default: stdout)");
+}
+
 // An unknown command gets one line naming the commands (CLI11's own message would name the
 // word as an unexpected argument). Returns the exit code, or nothing for a known command.
 std::optional<int> reject_unknown_command(const CLI::App& app, int argc, char** argv) {
@@ -539,7 +562,7 @@ std::optional<int> reject_unknown_command(const CLI::App& app, int argc, char** 
   const std::string cmd = argv[1];
   for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     if (sub->get_name() == cmd) return std::nullopt;
-  fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, reproduce, instance, merge, plot; see 'hyfal --help')\n", cmd);
+  fmt::print(stderr, "hyfal: error: unknown command '{}' (commands: list, run, table, validate, simulate, witness, reproduce, instance, merge, plot; see 'hyfal --help')\n", cmd);
   return 2;
 }
 
@@ -589,6 +612,8 @@ int dispatch(CommandLine& c) {
   if (*c.run) return run_flags_or_file(c);
   if (*c.table) return cmd_table(c.table_db, c.table_experiment, c.table_format, c.table_output);
   if (*c.validate) return cmd_validate(c.witness_file);
+  if (*c.simulate) return cli::cmd_simulate(c.simulate_args);
+  if (*c.witness) return cli::cmd_witness_csv(c.witness_csv_file, c.witness_csv_output);
   if (*c.instance_export) return cmd_instance_export(c.instance_suite, c.instance_sets);
   if (*c.reproduce) return cli::cmd_reproduce(c.reproduce_args);
   if (*c.merge) return cli::cmd_merge(c.merge_args);
@@ -633,7 +658,8 @@ int run_command(int argc, char** argv) {
   c.app.require_subcommand(1);
   c.app.set_help_all_flag("--help-all", "help for every command");
   for (const auto add : {add_list_command, add_run_command, add_table_command, add_reproduce_command,
-                         add_merge_command, add_instance_command, add_plot_command, add_validate_command})
+                         add_merge_command, add_instance_command, add_plot_command, add_validate_command,
+                         add_simulate_command, add_witness_command})
     add(c);
   if (const auto code = reject_unknown_command(c.app, argc, argv)) return *code;
   if (const auto code = parse(c, argc, argv)) return *code;

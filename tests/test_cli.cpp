@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -243,6 +244,16 @@ std::vector<BadCase> bad_cases() {
   add("RequirementUnknownSignal", run_out({"--suite", "thermostat", "--set", "requirement=always (speed < 120)"}));
   add("RequirementForHydice", run_out({"--suite", "navigation", "--method", "hydice", "--set", "requirement=N1"}));
   add("RobustnessBiasWithoutRequirement", run_out({"--suite", "thermostat", "--set", "robustness_bias=0.5"}));
+  // simulate: the input CSV (issue 29)
+  const auto csv = [](std::string text) { return [text](const fs::path& work) { write_text(work / "in.csv", text); }; };
+  add("SimulateInputOutsideItsBox", {"simulate", "--suite", "cc", "--input", "in.csv", "--trace", "out/t.csv"},
+      csv("0,1,0\n5,2,0\n"));
+  add("SimulateTimesDoNotIncrease", {"simulate", "--suite", "cc", "--input", "in.csv", "--trace", "out/t.csv"},
+      csv("0,1,0\n5,1,0\n5,0,0\n"));
+  add("SimulateWrongColumns", {"simulate", "--suite", "cc", "--input", "in.csv", "--trace", "out/t.csv"},
+      csv("time,u1\n0,1\n5,1\n"));
+  add("SimulateNotANumber", {"simulate", "--suite", "cc", "--input", "in.csv", "--trace", "out/t.csv"},
+      csv("0,1,0\n5,nan,0\n"));
   add("MissingSuite", run_out({}));
   add("UnknownOption", run_out({"--suite", "thermostat", "--bogus", "1"}));
   // run: numbers
@@ -514,6 +525,28 @@ TEST_F(CliTest, ValidateChecksAnStlWitnessesRobustness) {
   const Result bad = hyfal({"validate", "bad.json"});
   EXPECT_EQ(bad.code, 1) << bad;
   EXPECT_TRUE(contains(bad.out, "differs from the recorded -9")) << bad;
+}
+
+// A witness's input signal as an ARCH-COMP CSV, replayed by `hyfal simulate`, gives the
+// witness's robustness again (issue 29: how a counterexample is handed over and checked).
+TEST_F(CliTest, AWitnessAsArchCsvReplaysToItsRobustness) {
+  const fs::path db = work() / "db.sqlite", wit = work() / "wit";
+  const Result r = hyfal({"run", "--suite", "cc", "--trials", "1", "--threads", "1", "--db", db.string(),
+                          "--witness-dir", wit.string(), "--set", "requirement=CC1"});
+  ASSERT_EQ(r.code, 0) << r;
+  fs::path w;
+  for (const auto& e : fs::recursive_directory_iterator(wit))
+    if (e.path().extension() == ".json") w = e.path();
+  ASSERT_FALSE(w.empty());
+  const Result csv = hyfal({"witness", w.string(), "--format", "arch-csv", "-o", "in.csv"});
+  ASSERT_EQ(csv.code, 0) << csv;
+  EXPECT_EQ(read_text(work() / "in.csv").rfind("time,u1,u2\n0,", 0), 0u);
+  const Result sim = hyfal({"simulate", "--suite", "cc", "--input", "in.csv", "--trace", "trace.csv"});
+  ASSERT_EQ(sim.code, 0) << sim;
+  const double recorded = Json::parse(read_text(w))["requirement"]["robustness"].get<double>();
+  ASSERT_LT(recorded, 0.0);
+  EXPECT_TRUE(contains(sim.out, fmt::format("| CC1 | {:.6g} | yes |", recorded))) << sim << "recorded " << recorded;
+  EXPECT_EQ(read_text(work() / "trace.csv").rfind("time,y1,y2,y3,y4,y5,u1,u2,safety\n", 0), 0u);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,0 +1,35 @@
+// `hyfal simulate`: a suite instance driven by a given input signal (an ARCH-COMP input CSV), its
+// trace and each requirement's robustness; `hyfal witness --format arch-csv`: a witness's input
+// signal as such a CSV. Together: replay someone else's counterexample, or hand ours to them.
+//
+// The CSV (ARCH-COMP's validation format): a time column, then one column per input in the
+// suite's input order; a header row is optional (`time` or `t`, then the input names). Row k's
+// inputs hold from its time to the next row's (piecewise constant); the last row's time ends the
+// simulation (its inputs are not used). Times start at 0 and increase; values lie in the inputs'
+// box. Anything else: one line naming the row and column, exit 2, nothing written.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/requirements/simulate.hpp"
+
+namespace hyfal::cli {
+
+struct SimulateArgs {
+  std::string suite;
+  std::vector<std::string> sets;  // key=value instance parameters
+  std::string input;              // the input CSV
+  std::string trace;              // where to write the trace CSV ("" none, "-" stdout)
+};
+
+int cmd_simulate(const SimulateArgs& args);
+
+// `hyfal witness FILE --format arch-csv [-o OUT]`.
+int cmd_witness_csv(const std::string& file, const std::string& output);
+
+// The pieces of an input CSV's text for a system with `inputs` (names) inside `box`; throws
+// UsageError naming `where`, the row and the column.
+std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std::vector<std::string>& inputs,
+                                             const Box& box, const std::string& where);
+
+}  // namespace hyfal::cli
