@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libtbb-dev libnanoflann-dev libboost-dev libboost-math-dev
   libbenchmark-dev libfmt-dev libgtest-dev libcli11-dev libsqlite3-dev sqlite3
   nlohmann-json3-dev libtomlplusplus-dev
+  libpagmo-dev libnlopt-cxx-dev  # the optimisation falsifiers (core/planners/optimizers/)
   openmpi-bin libopenmpi-dev
   libompl-dev  # OMPL's control planners as methods ompl-* (optional component)
   ompl-demos   # ompl_benchmark_statistics: the ctest that reads `hyfal table --format ompl-log`

@@ -2,6 +2,7 @@
 #include "core/planner.hpp"
 #include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
 #include "core/planners/hydice/hydice.hpp"
+#include "core/planners/optimizers/optimizers.hpp"
 #ifdef HYFAL_HAVE_OMPL
 #include "core/planners/ompl/ompl_methods.hpp"
 #endif
@@ -19,6 +20,10 @@ const std::vector<MethodEntry>& all_methods() {
       hydice_noleads_method(),
       rrt_dstar_method(),
       rrft_method(),
+      random_search_method(),
+      simulated_annealing_method(),
+      cmaes_method(),
+      nelder_mead_method(),
 #ifdef HYFAL_HAVE_OMPL  // last, so that a build without OMPL lists a prefix of the README's settings table
       ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method(),
 #endif

@@ -41,7 +41,56 @@ class AllSignals final : public SampleSink {
   std::span<const double> u_;
 };
 
+// A sink that keeps nothing: it puts a propagator in STL mode (the unsafe set does not stop the
+// flow) where no samples are needed.
+class NoSamples final : public SampleSink {
+ public:
+  void sample(double, Mode, std::span<const double>, double) override {}
+};
+
 }  // namespace
+
+Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
+  const SystemInfo& info = system.info();
+  Trajectory t;
+  t.parameters.assign(p.begin(), p.end());
+  t.initial_mode = info.initial_mode;
+  t.initial_x = info.initial_state;
+  NoSamples none;
+  const auto prop = system.make_propagator();
+  prop->set_trace(&none);
+  Mode q = info.initial_mode;
+  std::vector<double> x = info.initial_state, next(x.size());
+  for (const InputPiece& piece : pieces) {
+    double left = piece.duration;
+    bool over = false;
+    int jumps_here = 0;
+    while (left > 1e-12 * std::max(1.0, piece.duration) && !over) {
+      const PropagationResult r = prop->propagate(q, x, piece.u, p, left, next);
+      if (r.end == PropagationEnd::rejected) break;
+      jumps_here = r.duration > 0.0 ? 0 : jumps_here + 1;
+      if (jumps_here > 10000) break;
+      TrajectoryPiece tp;
+      tp.mode = q;
+      tp.u = piece.u;
+      tp.duration = r.duration;
+      tp.transition = r.end == PropagationEnd::jumped ? r.transition : -1;
+      tp.x_start = x;
+      tp.x_end.resize(x.size());
+      prop->flow(q, x, piece.u, p, r.duration, tp.x_end);  // before the reset
+      if (r.duration > 0.0 || tp.transition >= 0) t.pieces.push_back(std::move(tp));
+      over = r.end == PropagationEnd::invariant;
+      x.swap(next);
+      q = r.mode;
+      left -= r.duration;
+    }
+    if (over) break;
+  }
+  t.final_mode = q;
+  t.final_x = x;
+  t.final_spec = system.spec(q, x, p);
+  return t;
+}
 
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
   const SystemInfo& info = system.info();
@@ -68,6 +117,11 @@ SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece>
     double left = piece.duration;
     int jumps_here = 0;
     while (left > 1e-12 * std::max(1.0, piece.duration)) {
+      if (!system.inputs(q).box.contains(piece.u)) {
+        trace.end = PropagationEnd::rejected;
+        trace.problem = fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", t, system.mode_name(q));
+        return trace;
+      }
       sink.begin(t, piece.u);
       const PropagationResult r = prop->propagate(q, x, piece.u, p, left, next);
       if (r.end == PropagationEnd::rejected || r.end == PropagationEnd::invariant) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "core/trajectory.hpp"
 #include "core/requirements/requirement.hpp"
 
 namespace hyfal::stl {
@@ -26,6 +27,10 @@ struct SimulatedTrace {
   // e.g. its horizon, ended it early: the trace stops there), rejected (a non-finite state, or
   // more than 10^4 transitions at one instant).
   PropagationEnd end = PropagationEnd::completed;
+  // Set when the input signal does not fit the system (the end is then rejected): an input outside
+  // the current mode's input box U_q (a suite whose U_q differs between modes, like the
+  // thermostat's, cannot be driven by one signal).
+  std::string problem;
   std::size_t samples() const { return time.size(); }
 };
 
@@ -33,6 +38,11 @@ struct SimulatedTrace {
 // system's input dimension). Throws std::invalid_argument on a piece of the wrong size or a
 // negative or non-finite duration.
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p);
+
+// The execution under `pieces` as a witness's trajectory (core/trajectory.hpp): one piece per
+// flow between transitions (an input piece cut at each transition), each piece's end state before
+// its reset, as the validator re-simulates them; it ends where simulate_inputs ends.
+Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p);
 
 // The robustness of a simulated trace for a requirement of the same system (its sources index
 // the trace's signals).
