@@ -9,6 +9,7 @@
 // extensions are 1 and 30 minutes; aircraft (esposito5, no wind) δt = 20 s: 5 and 30 extensions
 // reach t = 40 s and 340 s (its first extensions end at once: the heading modes end at t = 0).
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "bench/bench_support.hpp"
 #include "core/nearest.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
+#include "core/requirements/simulate.hpp"
 #include "core/rng.hpp"
 #include "core/tree.hpp"
 
@@ -76,6 +78,29 @@ BENCHMARK(BM_ExtendThermostat)->Arg(10)->Arg(300)->MinTime(0.3);
 BENCHMARK(BM_ExtendThermostatT3)->Arg(10)->Arg(300)->MinTime(0.3);
 BENCHMARK(BM_ExtendAircraft)->Arg(5)->Arg(30)->MinTime(0.3);
 BENCHMARK(BM_ExtendAircraftA3)->Arg(5)->Arg(30)->MinTime(0.3);
+
+// One ARCH-COMP simulation as an optimiser runs it (core/planners/optimizers/): the chasing cars
+// for 100 s under 20 pieces of 5 s (random control points, fixed seed), sampled at every RK4 step
+// and transition, then the requirement's offline robustness. Issue 29: <= 0.5 ms on one core.
+void BM_SimulateCc(benchmark::State& state, const char* requirement, const char* integration_step) {
+  const auto system = suite_instance("cc", {{"requirement", requirement}, {"integration_step", integration_step}});
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<stl::InputPiece> pieces(20);
+  for (auto& p : pieces) p = {5.0, {unit(rng), unit(rng)}};
+  stl::InputSimulator simulator(*system);  // as an optimiser keeps them
+  stl::TraceMonitor monitor(*system->info().requirement);
+  std::size_t samples = 0;
+  for (auto _ : state) {
+    const stl::SimulatedTrace& trace = simulator.run(pieces, system->info().parameters);
+    benchmark::DoNotOptimize(monitor.robustness(trace));
+    samples = trace.samples();
+  }
+  state.counters["samples"] = static_cast<double>(samples);
+}
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1, "CC1", "0.05")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC4, "CC4", "0.05")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1_step_0_1, "CC1", "0.1")->MinTime(0.3);
 
 }  // namespace
 }  // namespace hyfal::bench

@@ -16,7 +16,7 @@ class AllSignals final : public SampleSink {
  public:
   AllSignals(const System& system, SimulatedTrace& trace, std::span<const double> p)
       : system_(system), trace_(trace), p_(p), outputs_(system.info().outputs.size()) {
-    trace_.signals.resize(system_signals(system.info()).size());
+    trace_.signals.resize(system_signals(system.info()).size());  // kept when already sized
   }
   void begin(double t0, std::span<const double> u) {
     t0_ = t0;
@@ -92,7 +92,19 @@ Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece
   return t;
 }
 
-SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
+struct InputSimulator::Impl {
+  explicit Impl(const System& s) : system(s), prop(s.make_propagator()) {}
+  const System& system;
+  std::unique_ptr<Propagator> prop;
+  SimulatedTrace trace;
+  std::vector<double> x, next;
+};
+
+InputSimulator::InputSimulator(const System& system) : impl_(std::make_unique<Impl>(system)) {}
+InputSimulator::~InputSimulator() = default;
+
+const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, std::span<const double> p) {
+  const System& system = impl_->system;
   const SystemInfo& info = system.info();
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     if (pieces[i].u.size() != info.input_names.size())
@@ -102,12 +114,19 @@ SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece>
       throw std::invalid_argument(fmt::format("input piece {}: duration {} is not a finite number >= 0", i,
                                               pieces[i].duration));
   }
-  SimulatedTrace trace;
+  SimulatedTrace& trace = impl_->trace;
+  trace.time.clear();
+  for (auto& s : trace.signals) s.clear();
+  trace.end = PropagationEnd::completed;
+  trace.problem.clear();
   AllSignals sink(system, trace, p);
-  const auto prop = system.make_propagator();
-  prop->set_trace(&sink);
+  Propagator& prop = *impl_->prop;
+  prop.set_trace(&sink);
   Mode q = info.initial_mode;
-  std::vector<double> x = info.initial_state, next(x.size());
+  std::vector<double>& x = impl_->x;
+  std::vector<double>& next = impl_->next;
+  x = info.initial_state;
+  next.resize(x.size());
   const std::vector<double> no_input(info.input_names.size(), 0.0);
   sink.begin(0.0, pieces.empty() ? std::span<const double>(no_input) : std::span<const double>(pieces[0].u));
   sink.sample(0.0, q, x, std::nan(""));  // the first sample, with the first piece's input
@@ -120,17 +139,20 @@ SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece>
       if (!system.inputs(q).box.contains(piece.u)) {
         trace.end = PropagationEnd::rejected;
         trace.problem = fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", t, system.mode_name(q));
+        prop.set_trace(nullptr);
         return trace;
       }
       sink.begin(t, piece.u);
-      const PropagationResult r = prop->propagate(q, x, piece.u, p, left, next);
+      const PropagationResult r = prop.propagate(q, x, piece.u, p, left, next);
       if (r.end == PropagationEnd::rejected || r.end == PropagationEnd::invariant) {
         trace.end = r.end;
+        prop.set_trace(nullptr);
         return trace;
       }
       jumps_here = r.duration > 0.0 ? 0 : jumps_here + 1;
       if (jumps_here > kMaxJumpsAtOneInstant) {
         trace.end = PropagationEnd::rejected;
+        prop.set_trace(nullptr);
         return trace;
       }
       x.swap(next);
@@ -139,16 +161,26 @@ SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece>
       left -= r.duration;
     }
   }
+  prop.set_trace(nullptr);
   return trace;
 }
 
+SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
+  InputSimulator simulator(system);
+  return simulator.run(pieces, p);
+}
+
+TraceMonitor::TraceMonitor(const Requirement& requirement) : requirement_(requirement), monitor_(requirement.formula) {}
+
+double TraceMonitor::robustness(const SimulatedTrace& trace) {
+  values_.clear();
+  for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].end());
+  return monitor_.robustness(TraceView{trace.time, values_});
+}
+
 double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {
-  const std::size_t n = trace.samples();
-  std::vector<double> values;
-  values.reserve(requirement.sources.size() * n);
-  for (int s : requirement.sources) values.insert(values.end(), trace.signals[s].begin(), trace.signals[s].end());
-  OfflineMonitor monitor(requirement.formula);
-  return monitor.robustness(TraceView{trace.time, values});
+  TraceMonitor monitor(requirement);
+  return monitor.robustness(trace);
 }
 
 }  // namespace hyfal::stl

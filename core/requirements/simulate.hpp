@@ -3,6 +3,7 @@
 // what `hyfal simulate` writes, and how a test or a user checks a model or replays someone
 // else's counterexample (an ARCH-COMP input CSV).
 #pragma once
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "core/model.hpp"
 #include "core/trajectory.hpp"
 #include "core/requirements/requirement.hpp"
+#include "core/requirements/robustness.hpp"
 
 namespace hyfal::stl {
 
@@ -38,6 +40,32 @@ struct SimulatedTrace {
 // system's input dimension). Throws std::invalid_argument on a piece of the wrong size or a
 // negative or non-finite duration.
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p);
+
+// The same, for many simulations of one system (an optimiser's): the propagator and the trace's
+// buffers are kept between runs, so a run allocates nothing once the longest trace has been seen.
+class InputSimulator {
+ public:
+  explicit InputSimulator(const System& system);
+  ~InputSimulator();
+  // The trace of `pieces`, valid until the next run.
+  const SimulatedTrace& run(std::span<const InputPiece> pieces, std::span<const double> p);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The robustness of traces of one system for one requirement, with its buffers kept.
+class TraceMonitor {
+ public:
+  explicit TraceMonitor(const Requirement& requirement);
+  double robustness(const SimulatedTrace& trace);
+
+ private:
+  const Requirement& requirement_;
+  OfflineMonitor monitor_;
+  std::vector<double> values_;
+};
 
 // The execution under `pieces` as a witness's trajectory (core/trajectory.hpp): one piece per
 // flow between transitions (an input piece cut at each transition), each piece's end state before

@@ -57,7 +57,8 @@ struct SearchOver {
 class RobustnessObjective {
  public:
   RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon)
-      : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), budget_(ctx),
+      : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), simulator_(ctx.system),
+        monitor_(requirement_), budget_(ctx),
         max_simulations_(std::min(budget, ctx.limits.max_nodes)) {
     const SystemInfo& info = system_.info();
     dt_ = info.step_duration;
@@ -77,13 +78,13 @@ class RobustnessObjective {
     if (simulations_ >= max_simulations_) throw SearchOver{TrialStatus::node_cap};
     if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
     set_pieces(x);
-    const stl::SimulatedTrace trace = stl::simulate_inputs(system_, pieces_, ctx_.parameters);
+    const stl::SimulatedTrace& trace = simulator_.run(pieces_, ctx_.parameters);
     if (!trace.problem.empty())
       throw std::invalid_argument("the optimisers drive the system with one input box in every mode: " + trace.problem);
     ++simulations_;
     simulated_time_ += trace.time.empty() ? 0.0 : trace.time.back();
     steps_ += static_cast<std::int64_t>(trace.samples());
-    const double rho = stl::trace_robustness(requirement_, trace);
+    const double rho = monitor_.robustness(trace);
     if (rho < best_) {
       best_ = rho;
       best_x_ = x;
@@ -120,6 +121,8 @@ class RobustnessObjective {
   const PlannerContext& ctx_;
   const System& system_;
   const stl::Requirement& requirement_;
+  stl::InputSimulator simulator_;
+  stl::TraceMonitor monitor_;
   SearchBudget budget_;
   std::int64_t max_simulations_;
   double dt_ = 1.0;
