@@ -114,7 +114,11 @@ TEST(Batch, EveryMethodDeclaresIt) {
   std::vector<std::string> names;
   for (const MethodEntry* m : batched_methods()) names.push_back(m->name);
   for (const MethodEntry& m : all_methods())
-    if (!m.name.starts_with("ompl-"))  // OMPL's planners grow one motion at a time inside OMPL: no batches
+    // OMPL's planners grow one motion at a time inside OMPL: no batches; the optimisation
+    // falsifiers evaluate one simulation at a time (pagmo's and NLopt's algorithms call the
+    // fitness in sequence).
+    if (!m.name.starts_with("ompl-") && m.name != "random" && m.name != "annealing" && m.name != "cmaes" &&
+        m.name != "nelder-mead")
       EXPECT_NE(std::find(names.begin(), names.end(), m.name), names.end()) << m.name << " has no option batch";
 }
 
