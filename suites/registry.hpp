@@ -15,6 +15,7 @@ SuiteEntry guard_intruder_suite();
 SuiteEntry navigation_suite();
 SuiteEntry blimp_suite();
 SuiteEntry aircraft_suite();
+SuiteEntry at_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 // A resolved instance as its key: the default (empty) requirement left out (registry.cpp).
