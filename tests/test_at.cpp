@@ -2,7 +2,7 @@
 // (tests/data/at-simulink-trace.csv, a copy of ../shared/arch/at-simulink-trace.csv) and checks
 // every shift within one sample (0.04 s) of the trace's, speed within 0.5 % of the trace's top
 // speed and engine speed within 0.5 % of the trace's value at every sample; every declared
-// requirement builds; an rrt search falsifies AT1 and AT2.
+// requirement builds; a guided rrt search falsifies ATc2 with a validated witness.
 #include <gtest/gtest.h>
 
 #include <algorithm>
