@@ -16,6 +16,9 @@
 //    event_time_tol, at the last time before it does), the reset jump(q, k, x; p) is applied
 //    and gives the next mode. A guard already positive at the start fires at once. When several
 //    become enabled in one step the earliest wins; at equal times the lower index k wins.
+//    A model whose guards read the input (a gear-shift schedule over the throttle) writes
+//    `double guard(q, k, x, u, p)` instead: u is the propagation's constant input, and callers
+//    outside the integrator use System::guard_with_input.
 //    Optional: `double guard_peak(q, k, x, u, p)`, a function whose sign change marks where g_k
 //    peaks along the flow (a band |e| < tol: e itself; a disc: the relative position dotted with
 //    the relative velocity), 0 where there is nothing to watch. Guards are tested at step ends;
@@ -100,15 +103,25 @@ struct IntegratorSettings {
   double event_time_tol = 1e-12;  // width of the final bracket around an event time
 };
 
+// Guards g_k(q, x; p), or g_k(q, x, u; p) for a model whose guards read the input.
+template <class M>
+concept InputGuards = requires(const M m, Mode q, int k, const double* x, const double* u, const double* p) {
+  { m.guard(q, k, x, u, p) } -> std::convertible_to<double>;
+};
+template <class M>
+concept StateGuards = requires(const M m, Mode q, int k, const double* x, const double* p) {
+  { m.guard(q, k, x, p) } -> std::convertible_to<double>;
+};
+
 // Compile-time model interface; see the conventions above.
 template <class M>
-concept HybridModel = requires(const M m, Mode q, int k, const double* x, double* xm,
+concept HybridModel = (StateGuards<M> || InputGuards<M>) &&
+                      requires(const M m, Mode q, int k, const double* x, double* xm,
                                const double* u, const double* p, double* dx) {
   { m.dim() } -> std::convertible_to<int>;
   { m.valid_mode(q) } -> std::same_as<bool>;
   { m.flow(q, x, u, p, dx) };
   { m.guard_count(q) } -> std::convertible_to<int>;
-  { m.guard(q, k, x, p) } -> std::convertible_to<double>;
   { m.jump(q, k, xm, p) } -> std::convertible_to<Mode>;
   { m.invariant(q, x, p) } -> std::convertible_to<bool>;
   { m.spec(q, x, p) } -> std::convertible_to<double>;
@@ -300,6 +313,12 @@ class System {
   }
   virtual int guard_count(Mode q) const = 0;
   virtual double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const = 0;
+  // g_k under the input u of the piece that flows: the same as guard() unless the model's guards
+  // read the input (then guard() without u throws std::logic_error).
+  virtual double guard_with_input(Mode q, int k, std::span<const double> x, std::span<const double> u,
+                                  std::span<const double> p) const {
+    return guard(q, k, x, p);
+  }
   virtual Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const = 0;
   virtual bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const = 0;
   virtual double spec(Mode q, std::span<const double> x, std::span<const double> p) const = 0;

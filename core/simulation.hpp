@@ -84,7 +84,7 @@ class ModelPropagator final : public Propagator {
       h1_.resize(nk);
     }
     for (int k = 0; k < nk; ++k) {
-      g0_[k] = model_.guard(q, k, x0_.data(), pp);
+      g0_[k] = guard_of(q, k, x0_.data(), u.data(), pp);
       if constexpr (kGuardPeaks) h0_[k] = peak_at(q, k, g0_[k], x0_.data(), u.data(), pp);
       if (g0_[k] > 0.0) {
         r.mode = model_.jump(q, k, x0_.data(), pp);
@@ -143,10 +143,10 @@ class ModelPropagator final : public Propagator {
                          -s0, -s1).second;
       }
       for (int k = 0; k < nk; ++k) {
-        g1_[k] = model_.guard(q, k, x1_.data(), pp);
+        g1_[k] = guard_of(q, k, x1_.data(), u.data(), pp);
         double tk = std::numeric_limits<double>::infinity();
         if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-          tk = locate(field, t, t1, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+          tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u.data(), pp); },
                       g0_[k], g1_[k]).first;
         } else if constexpr (kGuardPeaks) {
           h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u.data(), pp);
@@ -232,6 +232,14 @@ class ModelPropagator final : public Propagator {
   static constexpr int kNoEvent = -2;
   static constexpr int kSpecEvent = -1;
 
+  // g_k at x; u is the propagation's constant input (read only by a model with InputGuards).
+  double guard_of(Mode q, int k, const double* x, const double* u, const double* p) const {
+    if constexpr (StateGuards<M>)
+      return model_.guard(q, k, x, p);
+    else
+      return model_.guard(q, k, x, u, p);
+  }
+
   static bool all_finite(const State& x) {
     for (double v : x)
       if (!std::isfinite(v)) return false;
@@ -291,9 +299,9 @@ class ModelPropagator final : public Propagator {
         locate(field, t, t1, [&](const State& xs) { return sign * model_.guard_peak(q, k, xs.data(), u, pp); },
                sign * h0, sign * h1).second;
     state_at(field, t, tm, xt_);
-    const double gm = model_.guard(q, k, xt_.data(), pp);
+    const double gm = guard_of(q, k, xt_.data(), u, pp);
     if (!(gm > 0.0)) return std::numeric_limits<double>::infinity();
-    return locate(field, t, tm, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+    return locate(field, t, tm, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); },
                   g0_[k], gm).first;
   }
 
@@ -355,10 +363,10 @@ class ModelPropagator final : public Propagator {
       int event = kNoEvent;
       double event_t = std::numeric_limits<double>::infinity();
       for (int k = 0; k < nk; ++k) {
-        g1_[k] = model_.guard(q, k, x1_.data(), pp);
+        g1_[k] = guard_of(q, k, x1_.data(), u.data(), pp);
         double tk = std::numeric_limits<double>::infinity();
         if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-          tk = locate(field, t, t1, [&](const State& xs) { return model_.guard(q, k, xs.data(), pp); },
+          tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u.data(), pp); },
                       g0_[k], g1_[k]).first;
         } else if constexpr (kGuardPeaks) {
           h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u.data(), pp);

@@ -2,6 +2,7 @@
 // granularity of a propagation, not of an RK stage).
 #pragma once
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -57,7 +58,17 @@ class ModelSystem final : public System {
   }
   int guard_count(Mode q) const override { return model_.guard_count(q); }
   double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const override {
-    return model_.guard(q, k, x.data(), p.data());
+    if constexpr (StateGuards<M>)
+      return model_.guard(q, k, x.data(), p.data());
+    else
+      throw std::logic_error("the guards of this model read the input: call guard_with_input");
+  }
+  double guard_with_input(Mode q, int k, std::span<const double> x, std::span<const double> u,
+                          std::span<const double> p) const override {
+    if constexpr (StateGuards<M>)
+      return model_.guard(q, k, x.data(), p.data());
+    else
+      return model_.guard(q, k, x.data(), u.data(), p.data());
   }
   Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const override {
     return model_.jump(q, k, x.data(), p.data());

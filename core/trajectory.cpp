@@ -428,7 +428,7 @@ Failure flow_through(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
       return fmt::format("piece {}: the invariant of mode {} fails at t = {:.6g}", i, system.mode_name(q), at);
     if (inside)
       for (int k = 0; k < system.guard_count(q); ++k)
-        if (system.guard(q, k, run.x, run.p) > run.tol)
+        if (system.guard_with_input(q, k, run.x, piece.u, run.p) > run.tol)
           return fmt::format("piece {}: transition {} is enabled at t = {:.6g} inside the piece, "
                              "but transitions are urgent", i, k, at);
   }
@@ -457,7 +457,7 @@ Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
     return fmt::format("piece {}: x_end differs from the re-simulated state by {:.3g}", i, e1);
   if (piece.transition >= 0) {  // a guard index of q (shape_mismatch checked it)
     const int k = piece.transition;
-    if (system.guard(run.q, k, run.x, run.p) < -run.tol)
+    if (system.guard_with_input(run.q, k, run.x, piece.u, run.p) < -run.tol)
       return fmt::format("piece {}: transition {} is not enabled at the end of the piece", i, k);
     run.q = system.jump(run.q, k, run.x, run.p);
     if (run.sampler) run.sampler->sample(piece.duration, run.q, run.x);  // after the reset, at the same time

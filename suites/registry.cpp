@@ -35,6 +35,7 @@ const std::vector<SuiteEntry>& all_suites() {
         navigation_suite(),
         blimp_suite(),
         aircraft_suite(),
+        at_suite(),
         cc_suite(),
     };
     for (auto& s : all) s = with_requirement_parameter(std::move(s));

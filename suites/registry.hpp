@@ -15,6 +15,7 @@ SuiteEntry guard_intruder_suite();
 SuiteEntry navigation_suite();
 SuiteEntry blimp_suite();
 SuiteEntry aircraft_suite();
+SuiteEntry at_suite();
 SuiteEntry cc_suite();
 
 const std::vector<SuiteEntry>& all_suites();

@@ -65,6 +65,10 @@ class MonitoredSystem final : public System {
   double guard(Mode q, int k, std::span<const double> x, std::span<const double> p) const override {
     return inner_->guard(q, k, x, p);
   }
+  double guard_with_input(Mode q, int k, std::span<const double> x, std::span<const double> u,
+                          std::span<const double> p) const override {
+    return inner_->guard_with_input(q, k, x, u, p);
+  }
   Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const override { return inner_->jump(q, k, x, p); }
   bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const override {
     return inner_->invariant(q, x, p);
