@@ -102,6 +102,8 @@ struct InputSimulator::Impl {
 
 InputSimulator::InputSimulator(const System& system) : impl_(std::make_unique<Impl>(system)) {}
 InputSimulator::~InputSimulator() = default;
+void InputSimulator::set_interrupt(PropagationInterrupt interrupt) { impl_->prop->set_interrupt(std::move(interrupt)); }
+bool InputSimulator::interrupted() const { return impl_->prop->interrupted(); }
 
 const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, std::span<const double> p) {
   const System& system = impl_->system;
@@ -119,6 +121,7 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   for (auto& s : trace.signals) s.clear();
   trace.end = PropagationEnd::completed;
   trace.problem.clear();
+  trace.integration_steps = 0;
   AllSignals sink(system, trace, p);
   Propagator& prop = *impl_->prop;
   prop.set_trace(&sink);
@@ -144,6 +147,7 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
       }
       sink.begin(t, piece.u);
       const PropagationResult r = prop.propagate(q, x, piece.u, p, left, next);
+      trace.integration_steps += r.steps;
       if (r.end == PropagationEnd::rejected || r.end == PropagationEnd::invariant) {
         trace.end = r.end;
         prop.set_trace(nullptr);

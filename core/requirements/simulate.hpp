@@ -3,6 +3,7 @@
 // what `hyfal simulate` writes, and how a test or a user checks a model or replays someone
 // else's counterexample (an ARCH-COMP input CSV).
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -33,6 +34,7 @@ struct SimulatedTrace {
   // the current mode's input box U_q (a suite whose U_q differs between modes, like the
   // thermostat's, cannot be driven by one signal).
   std::string problem;
+  std::int64_t integration_steps = 0;  // over every propagation, the interrupted one included
   std::size_t samples() const { return time.size(); }
 };
 
@@ -49,6 +51,10 @@ class InputSimulator {
   ~InputSimulator();
   // The trace of `pieces`, valid until the next run.
   const SimulatedTrace& run(std::span<const InputPiece> pieces, std::span<const double> p);
+  // A trial's deadline and cancellation, which also end a simulation in flight (its end is then
+  // rejected and interrupted() true, for this run and every later one).
+  void set_interrupt(PropagationInterrupt interrupt);
+  bool interrupted() const;
 
  private:
   struct Impl;

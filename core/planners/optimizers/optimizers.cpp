@@ -60,6 +60,7 @@ class RobustnessObjective {
       : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), simulator_(ctx.system),
         monitor_(requirement_), budget_(ctx),
         max_simulations_(std::min(budget, ctx.limits.max_nodes)) {
+    simulator_.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
     const SystemInfo& info = system_.info();
     dt_ = info.step_duration;
     pieces_.resize(static_cast<std::size_t>(std::max(1.0, std::ceil(horizon / dt_ - 1e-9))));
@@ -79,11 +80,12 @@ class RobustnessObjective {
     if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
     set_pieces(x);
     const stl::SimulatedTrace& trace = simulator_.run(pieces_, ctx_.parameters);
+    steps_ += trace.integration_steps;
+    if (simulator_.interrupted()) throw SearchOver{TrialStatus::timeout};
     if (!trace.problem.empty())
       throw std::invalid_argument("the optimisers drive the system with one input box in every mode: " + trace.problem);
     ++simulations_;
     simulated_time_ += trace.time.empty() ? 0.0 : trace.time.back();
-    steps_ += static_cast<std::int64_t>(trace.samples());
     const double rho = monitor_.robustness(trace);
     if (rho < best_) {
       best_ = rho;
