@@ -293,8 +293,12 @@ std::shared_ptr<const System> make_at(const Json& instance) {
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = 0.01;
   info.integrator.max_step = 0.01;
-  // RK4 at 0.01 s against the validator's tight dopri5: states ~1e-5 (scaled), speed guards ~1e-4 mph.
-  info.witness_tolerance = 1e-3;
+  // RK4 at 0.01 s against the validator's tight dopri5: states ~1e-5 (scaled), speed guards ~1e-4 mph
+  // on the tree's witnesses. The torque map and the converter tables are piecewise linear, so at
+  // each breakpoint the flow has a kink where RK4 drops to second order: under an optimiser's
+  // arbitrary inputs one piece of 1 s ended 1.6e-3 (scaled) away from dopri5 (1 witness of 6 in
+  // a first run). 1e-2 admits that; the witness is still judged by the validator's own trace.
+  info.witness_tolerance = 1e-2;
   return std::make_shared<ModelSystem<Transmission>>(Transmission(horizon, levels), std::move(info));
 }
 
