@@ -142,22 +142,7 @@ class ModelPropagator final : public Propagator {
         event_t = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); },
                          -s0, -s1).second;
       }
-      for (int k = 0; k < nk; ++k) {
-        g1_[k] = guard_of(q, k, x1_.data(), u.data(), pp);
-        double tk = std::numeric_limits<double>::infinity();
-        if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-          tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u.data(), pp); },
-                      g0_[k], g1_[k]).first;
-        } else if constexpr (kGuardPeaks) {
-          h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u.data(), pp);
-          if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
-            tk = crossed_inside_step(field, q, k, t, t1, u.data(), pp);
-        }
-        if (tk < event_t) {  // strict: the spec, then lower k, win ties
-          event_t = tk;
-          event = k;
-        }
-      }
+      earliest_guard(field, q, nk, t, t1, u.data(), pp, event, event_t);
       if (event != kNoEvent) {
         state_at(field, t, event_t, xt_);
         r.duration = event_t;
@@ -305,6 +290,29 @@ class ModelPropagator final : public Propagator {
                   g0_[k], gm).first;
   }
 
+  // The guards over the step [t, t1] (x0_ to x1_): g1_ (and h1_) at its end, and the earliest
+  // transition inside it, when earlier than event_t (strict: an event already found, e.g. the
+  // unsafe set's, and then lower k win ties), into event and event_t.
+  void earliest_guard(const FlowField& field, Mode q, int nk, double t, double t1, const double* u,
+                      const double* pp, int& event, double& event_t) {
+    for (int k = 0; k < nk; ++k) {
+      g1_[k] = guard_of(q, k, x1_.data(), u, pp);
+      double tk = std::numeric_limits<double>::infinity();
+      if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
+        tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g1_[k])
+                 .first;
+      } else if constexpr (kGuardPeaks) {
+        h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u, pp);
+        if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
+          tk = crossed_inside_step(field, q, k, t, t1, u, pp);
+      }
+      if (tk < event_t) {
+        event_t = tk;
+        event = k;
+      }
+    }
+  }
+
   // One integration step from (t, x0_) to t1 (at most `end_t`), into x1_. RK4: a fixed step;
   // dopri5: the dense stepper's next step, cut at end_t.
   double step_to(const FlowField& field, double t, double end_t) {
@@ -362,22 +370,7 @@ class ModelPropagator final : public Propagator {
       }
       int event = kNoEvent;
       double event_t = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < nk; ++k) {
-        g1_[k] = guard_of(q, k, x1_.data(), u.data(), pp);
-        double tk = std::numeric_limits<double>::infinity();
-        if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-          tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u.data(), pp); },
-                      g0_[k], g1_[k]).first;
-        } else if constexpr (kGuardPeaks) {
-          h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u.data(), pp);
-          if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
-            tk = crossed_inside_step(field, q, k, t, t1, u.data(), pp);
-        }
-        if (tk < event_t) {
-          event_t = tk;
-          event = k;
-        }
-      }
+      earliest_guard(field, q, nk, t, t1, u.data(), pp, event, event_t);
       if (unsafe_t <= event_t && unsafe_t <= t1) {  // an entry, when it comes first (or with the event)
         state_at(field, t, unsafe_t, xt_);
         sink_->sample(unsafe_t, q, xt_, kUnknownSafety);
