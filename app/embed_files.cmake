@@ -1,9 +1,9 @@
-# Writes OUT, a C++ source holding the text of every experiments/paper/*.toml under DIR (and
-# experiments/ompl/*.toml when WITH_OMPL), so that
+# Writes OUT, a C++ source holding the text of every experiments/paper/*.toml and
+# experiments/arch/*.toml (league tables) under DIR (and experiments/ompl/*.toml when WITH_OMPL), so that
 # the hyfal binary finds its paper tables from any directory (run by app/CMakeLists.txt at build
 # time, again whenever a table file changes). Each byte is written as a \x escape: any text
 # survives, whatever quotes or backslashes it holds.
-file(GLOB files RELATIVE "${DIR}" "${DIR}/experiments/paper/*.toml")
+file(GLOB files RELATIVE "${DIR}" "${DIR}/experiments/paper/*.toml" "${DIR}/experiments/arch/*.toml")
 if(WITH_OMPL)  # tables whose methods need OMPL
   file(GLOB ompl_files RELATIVE "${DIR}" "${DIR}/experiments/ompl/*.toml")
   list(APPEND files ${ompl_files})

@@ -113,10 +113,18 @@ int cmd_list(bool markdown) {
     fmt::print("  {:<14} {}\n", m.name, m.description);
     for (const auto& o : m.options) print_setting(o);
   }
-  fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|full|paper)\n");
+  fmt::print("tables:   (hyfal reproduce ID --profile smoke|quick|full|paper; a league: smoke|quick|full|published)\n");
   const auto& tables = builtin_paper_tables();
   if (tables.empty()) fmt::print("  (none)\n");
-  for (const auto& t : tables) fmt::print("  {:<14} {} [suite {}]\n", t.id, t.title, t.suite);
+  for (const auto& t : tables) {
+    std::string suites = t.suite;
+    if (t.league) {
+      suites.clear();
+      for (const LeagueRow& row : t.league->rows)
+        if (suites.find(row.suite) == std::string::npos) suites += (suites.empty() ? "" : ", ") + row.suite;
+    }
+    fmt::print("  {:<14} {} [{} {}]\n", t.id, t.title, t.league ? "league of" : "suite", suites);
+  }
   return 0;
 }
 
@@ -470,9 +478,10 @@ void add_reproduce_command(CommandLine& c) {
   reproduce->footer("Runs on a cluster like `run` does: `mpirun -n K hyfal reproduce ID --profile P` (see `hyfal run --help`).");
   reproduce->add_option("--profile", c.reproduce_args.profile,
                         "smoke (seconds), quick (minutes), full (the committed tables: larger samples, every column, "
-                        "per-method caps; hours; not every table has one) or paper (the paper's set-up)")
+                        "per-method caps; hours; not every table has one), paper (the paper's set-up) or, for a "
+                        "league table (arch-fals), published (the published tools' settings: runs, budget, control points)")
       ->required()
-      ->check(CLI::IsMember({"smoke", "quick", "full", "paper"}));
+      ->check(CLI::IsMember({"smoke", "quick", "full", "paper", "published"}));
   reproduce->add_option("--threads", c.reproduce_args.threads, "worker threads, 0 = all cores, at most 1024")
       ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
   reproduce->add_option("--seed", c.reproduce_args.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")

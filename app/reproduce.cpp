@@ -16,6 +16,7 @@
 
 #include "app/experiment_file.hpp"
 #include "app/plot.hpp"
+#include "results/league_report.hpp"
 #include "results/paper_report.hpp"
 #include "results/sweep_report.hpp"
 #include "results/text_format.hpp"
@@ -45,15 +46,27 @@ std::string utc_now() {
                      tm.tm_hour, tm.tm_min, tm.tm_sec);
 }
 
+// A table's profiles: smoke, quick, full (optional) and paper (a league: published, optional).
+std::string profile_names(const PaperTable& table) {
+  std::string names = "smoke, quick";
+  if (table.full) names += ", full";
+  if (!table.league) names += ", paper";
+  if (table.published) names += ", published";
+  return names;
+}
+
 const TableProfile& profile_of(const PaperTable& table, const std::string& name) {
-  if (name == "smoke") return table.smoke;
-  if (name == "quick") return table.quick;
-  if (name == "paper") return table.paper;
-  if (name == "full") {
-    if (table.full) return *table.full;
-    throw UsageError(fmt::format("--profile full: table '{}' has no full profile (smoke, quick and paper it has)", table.id));
-  }
-  throw UsageError(fmt::format("--profile {}: expected smoke, quick, full or paper", name));
+  const TableProfile* p = nullptr;
+  if (name == "smoke") p = &table.smoke;
+  if (name == "quick") p = &table.quick;
+  if (name == "paper" && !table.league) p = &table.paper;
+  if (name == "full" && table.full) p = &*table.full;
+  if (name == "published" && table.published) p = &*table.published;
+  if (p) return *p;
+  if (name == "smoke" || name == "quick" || name == "full" || name == "paper" || name == "published")
+    throw UsageError(fmt::format("--profile {}: table '{}' has no {} profile (it has {})", name, table.id, name,
+                                 profile_names(table)));
+  throw UsageError(fmt::format("--profile {}: expected one of {} (table '{}')", name, profile_names(table), table.id));
 }
 
 // A shard's table holds only what its database holds: until the shards are merged, a partial one.
@@ -92,6 +105,17 @@ void add_cpu_time(ReportHeader& header, const std::vector<TrialRecord>& trials) 
     header.cpu_s += t.cpu_s;
     ++header.trials_run;
   }
+}
+
+// Everything about where a reproduce writes, checked before anything is opened.
+void check_reproduce_outputs(const ReproduceArgs& a, const std::string& experiment) {
+  (void)shard_option(a.shard);  // a bad --shard is refused before anything is opened
+  check_output_path(a.db, "--db");
+  check_output_path(a.witness_dir, "--witness-dir");
+  check_output_path(a.out_dir, "--out-dir");
+  check_experiment_name(experiment);
+  check_directory_creatable(a.out_dir, "--out-dir");
+  check_directory_creatable(a.witness_dir, "--witness-dir");
 }
 
 // A sweep table: one trial group per (block, row, column, instance); all jobs in one pool.
@@ -213,12 +237,81 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
   return errors ? 1 : 0;
 }
 
+// A league table: one trial group per (row run, column), each row its own suite instance; all
+// cells in one pool, every method with the same runs, caps and profile settings.
+int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const TableProfile& profile,
+                     const std::string& experiment) {
+  const TableLeague& l = *table.league;
+  std::vector<bool> run(l.rows.size());
+  for (std::size_t i = 0; i < l.rows.size(); ++i)
+    run[i] = profile.row_labels.empty() ||
+             std::find(profile.row_labels.begin(), profile.row_labels.end(), l.rows[i].label) != profile.row_labels.end();
+  std::vector<TrialGroup> groups;
+  std::vector<std::pair<std::size_t, std::size_t>> places;  // (row, column) of groups[k]
+  for (std::size_t i = 0; i < l.rows.size(); ++i) {
+    if (!run[i]) continue;
+    const SuiteEntry* suite = find_suite(l.rows[i].suite);
+    if (!suite) throw UsageError(fmt::format("table '{}' row '{}': unknown suite '{}'", table.id, l.rows[i].label, l.rows[i].suite));
+    for (std::size_t c = 0; c < l.columns.size(); ++c) {
+      const MethodEntry* method = find_method(l.columns[c].method);
+      if (!method)
+        throw UsageError(fmt::format("table '{}' column '{}': method '{}' is not registered", table.id,
+                                     l.columns[c].label, l.columns[c].method));
+      TrialGroupSpec spec;
+      spec.experiment = experiment;
+      spec.suite = suite;
+      spec.method = method;
+      spec.settings = profile.settings;  // then the row's (the instance) and the column's (the method)
+      overlay_settings(spec.settings, l.rows[i].settings);
+      overlay_settings(spec.settings, l.columns[c].settings);
+      spec.trials = profile.trials;
+      spec.timeout_s = profile.timeout_s;
+      spec.max_nodes = profile.max_nodes;
+      spec.seed = a.seed;
+      try {
+        groups.push_back(resolve_trial_group(spec));
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(fmt::format("table '{}' cell '{}' x '{}': {}", table.id, l.rows[i].label, l.columns[c].label, e.what()));
+      } catch (const UsageError& e) {
+        throw UsageError(fmt::format("table '{}' cell '{}' x '{}': {}", table.id, l.rows[i].label, l.columns[c].label, e.what()));
+      }
+      places.emplace_back(i, c);
+    }
+  }
+  std::vector<const TrialGroup*> ordered;
+  for (const TrialGroup& g : groups) ordered.push_back(&g);
+  auto run_info = run_groups(fmt::format("table {} --profile {}", table.id, a.profile), ordered, run_options_of(a));
+  if (!run_info) return 0;  // --plan
+  std::vector<std::vector<std::vector<TrialRecord>>> trials(l.rows.size(),
+                                                            std::vector<std::vector<TrialRecord>>(l.columns.size()));
+  for (std::size_t k = 0; k < groups.size(); ++k) trials[places[k].first][places[k].second] = run_info->trials[k];
+  const LeagueReport report = make_league_report(table, trials, run);
+  ReportHeader header = make_header(a, profile, run_info->engine, experiment);
+  for (const auto& cells : run_info->trials) add_cpu_time(header, cells);
+  const std::string markdown = to_markdown(report, header);
+  const fs::path out_dir(a.out_dir);
+  write_file_atomic((out_dir / (table.id + ".md")).string(), markdown);
+  write_file_atomic((out_dir / (table.id + ".csv")).string(), to_csv(report, header));
+  std::cout << markdown << std::flush;
+  fmt::print(stderr, "[hyfal] {} trials ({} run now); wrote {} and {}; database {}\n", run_info->total, run_info->run_now,
+             (out_dir / (table.id + ".md")).string(), (out_dir / (table.id + ".csv")).string(), a.db);
+  write_table_figures(a.out_dir, table.id);
+  print_shard_note(a);
+  return run_info->errors ? 1 : 0;
+}
+
 }  // namespace
 
 int cmd_reproduce(const ReproduceArgs& a) {
   // Everything is checked before the database is opened, so a bad input writes nothing.
   const PaperTable loaded = find_table(a.id);
   const PaperTable* table = &loaded;
+  if (table->league) {
+    const TableProfile& profile = profile_of(*table, a.profile);
+    const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
+    check_reproduce_outputs(a, experiment);
+    return reproduce_league(a, *table, profile, experiment);
+  }
   const SuiteEntry* suite = find_suite(table->suite);
   if (!suite) throw UsageError(fmt::format("table '{}': unknown suite '{}'", table->id, table->suite));
   const TableProfile& profile = profile_of(*table, a.profile);
@@ -227,13 +320,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
                                  table->id, a.profile));
   if (table->rows.empty()) throw UsageError(fmt::format("table '{}' has no rows", table->id));
   const std::string experiment = fmt::format("{}/{}", table->id, a.profile);
-  (void)shard_option(a.shard);  // a bad --shard is refused before anything is opened
-  check_output_path(a.db, "--db");
-  check_output_path(a.witness_dir, "--witness-dir");
-  check_output_path(a.out_dir, "--out-dir");
-  check_experiment_name(experiment);
-  check_directory_creatable(a.out_dir, "--out-dir");
-  check_directory_creatable(a.witness_dir, "--witness-dir");
+  check_reproduce_outputs(a, experiment);
   if (table->sweep) return reproduce_sweep(a, suite, *table, profile, experiment);
 
   std::vector<TrialGroup> groups;

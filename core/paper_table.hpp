@@ -14,6 +14,9 @@ namespace hyfal {
 
 using Settings = std::vector<std::pair<std::string, std::string>>;  // --set key=value pairs
 
+inline constexpr double kNotReported = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kPaperTimeout = std::numeric_limits<double>::infinity();
+
 // A column the paper reports, and how ours is computed from the trials of a row.
 enum class TableMetric {
   nodes,        // mean nodes over trials
@@ -47,6 +50,8 @@ struct TableProfile {
   // Or the columns to run by label, in the sweep's order (non-empty: `columns` is not used); e.g.
   // the paper profile runs exactly the paper's columns and leaves out one the paper does not have.
   std::vector<std::string> column_labels = {};
+  // League tables only (PaperTable::league): the rows to run, by label; empty = every row.
+  std::vector<std::string> row_labels = {};
   // Per-row time limits (row label -> seconds) replacing timeout_s for that row: a table states
   // each method's cap, as the paper's X's imply one per method (seed 002 Table 1).
   std::vector<std::pair<std::string, double>> row_timeout_s = {};
@@ -94,6 +99,38 @@ inline std::vector<bool> columns_run(const TableSweep& sweep, const TableProfile
   return run;
 }
 
+// A league table (ARCH-COMP's falsification table): rows are requirements, each a suite instance
+// of its own (suite and settings, e.g. requirement = "AT1"); columns are methods with options;
+// each cell the falsification rate over the runs and the simulations the falsifying runs took.
+// `hyfal reproduce` runs every row with every column (results/league_report.hpp).
+struct LeagueRow {
+  std::string label;  // e.g. "AT1" or "CC3 (instance 2)"
+  std::string suite;
+  Settings settings;  // the instance: its requirement and input instance
+};
+struct LeagueColumn {
+  std::string label;   // e.g. "RRT (guided)"
+  std::string method;
+  Settings settings;   // method options
+};
+// Another tool's published numbers on one row (../shared/arch/published.md), shown beside ours.
+struct PublishedCell {
+  std::string row;  // a LeagueRow label
+  int falsified = 0, runs = 0;
+  double mean_simulations = kNotReported, median_simulations = kNotReported, mean_s = kNotReported;
+};
+struct PublishedTool {
+  std::string label;     // e.g. "Breach CMA-ES"
+  std::string source;    // where the numbers are from
+  std::string settings;  // under which settings (runs, budget, control points)
+  std::vector<PublishedCell> cells;
+};
+struct TableLeague {
+  std::vector<LeagueRow> rows;
+  std::vector<LeagueColumn> columns;
+  std::vector<PublishedTool> published;
+};
+
 struct PaperTable {
   std::string id;        // e.g. "kim-table1"
   std::string title;
@@ -112,9 +149,11 @@ struct PaperTable {
   // When set, the table is a sweep (rows x sweep columns per block) and `columns`/`paper` of
   // the rows are not used.
   std::optional<TableSweep> sweep = {};
+  // When set, the table is a league (rows x columns of TableLeague): `suite`, `columns` and `rows`
+  // are not used, and the optional `published` profile runs the league in the published tools'
+  // settings.
+  std::optional<TableLeague> league = {};
+  std::optional<TableProfile> published = {};
 };
-
-inline constexpr double kNotReported = std::numeric_limits<double>::quiet_NaN();
-inline constexpr double kPaperTimeout = std::numeric_limits<double>::infinity();
 
 }  // namespace hyfal

@@ -152,18 +152,7 @@ std::string marked(std::string cell, Bound bound) {
   return fmt::format("{}{}", bound_mark(bound), cell);
 }
 
-std::string markdown_separator(std::size_t text_columns, std::size_t columns) {
-  std::vector<std::string> separator;
-  for (std::size_t c = 0; c < columns; ++c) separator.emplace_back(c < text_columns ? "---" : "--:");
-  return markdown_row(separator);
-}
 
-std::string settings_text(const Settings& settings) {
-  if (settings.empty()) return std::string(kMissing);
-  std::vector<std::string> parts;
-  for (const auto& [key, value] : settings) parts.push_back(fmt::format("{}={}", key, value));
-  return fmt::format("{}", fmt::join(parts, ", "));
-}
 
 std::string interval_text(const SampleSummary& s, TableMetric metric, bool censored) {
   if (std::isnan(s.ci_low)) return std::string(kMissing);
@@ -415,16 +404,7 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
   md += fmt::format("- date (UTC): {}\n", header.date_utc);
   md += fmt::format("- git commit: {}\n", header.git_commit);
   md += cpu_time_line(header);
-  if (!report.notes.empty()) {
-    std::string notes = report.notes;
-    while (!notes.empty() && (notes.back() == '\n' || notes.back() == ' ')) notes.pop_back();
-    std::string indented;
-    for (const char c : notes) {
-      indented += c;
-      if (c == '\n') indented += "  ";
-    }
-    md += fmt::format("- notes: {}\n", indented);
-  }
+  md += notes_line(report.notes);
 
   bool any_bound = false;
   for (std::size_t c = 0; c < report.columns.size(); ++c) {

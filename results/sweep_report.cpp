@@ -42,12 +42,6 @@ std::string separator(std::size_t text_columns, std::size_t columns) {
   return markdown_row(sep);
 }
 
-std::string settings_text(const Settings& settings) {
-  if (settings.empty()) return std::string(kMissing);
-  std::vector<std::string> parts;
-  for (const auto& [key, value] : settings) parts.push_back(fmt::format("{}={}", key, value));
-  return fmt::format("{}", fmt::join(parts, ", "));
-}
 
 }  // namespace
 
@@ -178,15 +172,7 @@ std::string header_text(const SweepReport& r, const ReportHeader& header) {
                     header.threads);
   md += fmt::format("- date (UTC): {}\n- git commit: {}\n", header.date_utc, header.git_commit);
   md += cpu_time_line(header);
-  if (!r.notes.empty()) {
-    std::string notes;
-    for (const char c : r.notes) {
-      notes += c;
-      if (c == '\n') notes += "  ";
-    }
-    while (!notes.empty() && (notes.back() == ' ' || notes.back() == '\n')) notes.pop_back();
-    md += fmt::format("- notes: {}\n", notes);
-  }
+  md += notes_line(r.notes);
   return md;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -42,6 +43,33 @@ inline std::string markdown_cell(std::string_view text) {
 
 inline std::string markdown_row(const std::vector<std::string>& cells) {
   return fmt::format("| {} |\n", fmt::join(cells, " | "));
+}
+
+// The separator line of a Markdown table: the first `text_columns` left-aligned, the rest right.
+inline std::string markdown_separator(std::size_t text_columns, std::size_t columns) {
+  std::vector<std::string> separator;
+  for (std::size_t c = 0; c < columns; ++c) separator.emplace_back(c < text_columns ? "---" : "--:");
+  return markdown_row(separator);
+}
+
+// Settings as "key=value, key=value"; "–" for none.
+inline std::string settings_text(const std::vector<std::pair<std::string, std::string>>& settings) {
+  if (settings.empty()) return std::string(kMissing);
+  std::vector<std::string> parts;
+  for (const auto& [key, value] : settings) parts.push_back(fmt::format("{}={}", key, value));
+  return fmt::format("{}", fmt::join(parts, ", "));
+}
+
+// "- notes: ...\n" with the notes' later lines indented to stay in the list item; "" for none.
+inline std::string notes_line(std::string notes) {
+  while (!notes.empty() && (notes.back() == '\n' || notes.back() == ' ')) notes.pop_back();
+  if (notes.empty()) return "";
+  std::string indented;
+  for (const char c : notes) {
+    indented += c;
+    if (c == '\n') indented += "  ";
+  }
+  return fmt::format("- notes: {}\n", indented);
 }
 
 // RFC 4180: a field with a comma, quote or line break is quoted, quotes doubled.

@@ -496,6 +496,64 @@ def plot_plaku_table2(path, out_dir):
 
 
 # ---------------------------------------------------------------------------------------------
+# League tables (ARCH-COMP, `hyfal reproduce arch-fals`): per requirement and method the
+# falsification rate and the mean simulations of the falsifying runs
+
+LEAGUE_COLUMNS = ("table", "profile", "source", "row", "column", "n", "falsified_rate", "simulations_mean")
+
+
+def is_league_csv(path):
+    """Whether path is a league table's CSV (its header starts table,profile,source,row,suite)."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            header = next(csv.reader(f), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    return header[:5] == ["table", "profile", "source", "row", "suite"]
+
+
+def plot_league(path, out_dir):
+    """Two panels, one group of bars per requirement: ours (source hyfal) per method, the
+    falsification rate and the mean simulations of the falsifying runs (log scale)."""
+    rows, methods, cells, profile = [], [], {}, ""
+    for i, r in enumerate(read_csv_rows(path, LEAGUE_COLUMNS), start=2):
+        if r["source"] != "hyfal":
+            continue
+        profile = r["profile"]
+        if r["row"] not in rows:
+            rows.append(r["row"])
+        if r["column"] not in methods:
+            methods.append(r["column"])
+        rate = parse_float(path, i, r["falsified_rate"]) if r["falsified_rate"] else 0.0
+        sims = parse_float(path, i, r["simulations_mean"]) if r["simulations_mean"] else None
+        cells[(r["row"], r["column"])] = (rate, sims)
+    if not rows:
+        return []
+    name = os.path.splitext(os.path.basename(path))[0]
+    height = max(4.0, 0.32 * len(rows) + 1.5)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, height), sharey=True)
+    width = 0.8 / len(methods)
+    for m, method in enumerate(methods):
+        ys = [k + (m - (len(methods) - 1) / 2) * width for k in range(len(rows))]
+        rates = [cells.get((row, method), (0.0, None))[0] for row in rows]
+        sims = [cells.get((row, method), (0.0, None))[1] for row in rows]
+        left.barh(ys, rates, height=width, color=row_colour(m), label=method)
+        right.barh([y for y, v in zip(ys, sims) if v is not None], [v for v in sims if v is not None], height=width,
+                   color=row_colour(m), label=method)
+    left.set_yticks(range(len(rows)))
+    left.set_yticklabels(rows, fontsize=8)
+    left.invert_yaxis()
+    left.set_xlim(0, 1.05)
+    left.set_xlabel("falsification rate")
+    right.set_xscale("log")
+    right.set_xlabel("mean simulations of the falsifying runs (log)")
+    left.legend(loc="lower right", fontsize=7)
+    fig.suptitle(f"{name} (profile {profile}): ours per requirement and method")
+    fig.tight_layout()
+    return save_figure(fig, out_dir, name)
+
+
+# ---------------------------------------------------------------------------------------------
 # Experiments (`hyfal run FILE.toml`): the table's measure per column, one line per row
 
 EXPERIMENT_COLUMNS = ("block", "row", "column", "n", "timeouts", "node_caps", "value", "baseline")
@@ -609,6 +667,8 @@ def figure_jobs(tables_dir, only=None):
             jobs.append((path, lambda p, o, s=suite, x=suffix: plot_esposito_series(p, o, s, x)))
         elif name.endswith(".csv") and is_experiment_csv(path):
             jobs.append((path, plot_experiment))
+        elif name.endswith(".csv") and is_league_csv(path):
+            jobs.append((path, plot_league))
     return jobs
 
 

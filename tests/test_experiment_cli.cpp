@@ -249,6 +249,43 @@ INSTANTIATE_TEST_SUITE_P(
                                   "rows[1].settings.selection"}),
     [](const ::testing::TestParamInfo<BadFileCase>& info) { return info.param.name; });
 
+// The ARCH-COMP league (experiments/arch/arch-fals.toml) end to end: every row with every method,
+// its validated witnesses, the league, verdicts and published numbers; a profile it lacks, exit 2.
+TEST_F(ExperimentCliTest, TheArchLeagueRunsEveryRowWithEveryMethod) {
+  const Result bad = hyfal({"reproduce", "arch-fals", "--profile", "paper", "--db", "db.sqlite", "--out-dir", "out"});
+  EXPECT_EQ(bad.code, 2) << bad;
+  EXPECT_EQ(lines(bad.err).size(), 1u) << bad;
+  EXPECT_TRUE(contains(bad.err, "has no paper profile (it has smoke, quick, full, published)")) << bad;
+  EXPECT_TRUE(fs::is_empty(work()));
+
+  const Result r = hyfal({"reproduce", "arch-fals", "--profile", "smoke", "--threads", "2", "--db", "db.sqlite",
+                          "--witness-dir", "wit", "--out-dir", "out"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "| AT2 | at |")) << r;
+  EXPECT_TRUE(contains(r.out, "## Published results beside ours")) << r;
+  EXPECT_TRUE(contains(r.out, "| ATc2 |")) << r;
+  EXPECT_TRUE(fs::exists(work() / "out" / "arch-fals.md"));
+  EXPECT_TRUE(fs::exists(work() / "out" / "arch-fals.csv"));
+  // 4 rows x 6 methods x 2 runs; every falsifying run's witness validated.
+  const SqlResult counts = sql(work() / "db.sqlite",
+                               "SELECT count(*), count(DISTINCT method), sum(status = 'falsified'), "
+                               "sum(status = 'falsified' AND validated = 1) FROM trials");
+  ASSERT_TRUE(counts.ok) << counts.text;
+  const auto fields = [](const std::string& text) {
+    std::vector<std::string> f;
+    std::size_t at = 0;
+    for (std::size_t bar; (bar = text.find('|', at)) != std::string::npos; at = bar + 1) f.push_back(text.substr(at, bar - at));
+    f.push_back(text.substr(at, text.find('\n', at) - at));
+    return f;
+  };
+  const std::vector<std::string> f = fields(counts.text);
+  ASSERT_EQ(f.size(), 4u) << counts.text;
+  EXPECT_EQ(f[0], "48");
+  EXPECT_EQ(f[1], "6");
+  EXPECT_NE(f[2], "0") << "the smoke rows are easy enough that some run falsifies";
+  EXPECT_EQ(f[2], f[3]) << "every falsifying run's witness validates";
+}
+
 TEST_F(ExperimentCliTest, MissingTableFileAndUnknownIdExitTwo) {
   for (const Args& args : {Args{"reproduce", "nowhere/table.toml", "--profile", "smoke"},
                            Args{"reproduce", "no-such-table", "--profile", "smoke"}}) {

@@ -125,6 +125,8 @@ TEST(PaperTableFiles, EveryTableFileEqualsTheTableAsItWasInCpp) {
 TEST(PaperTableFiles, CompiledInFilesAreTheCommittedFiles) {
   std::size_t files = 0, ompl_files = 0, ompl_embedded = 0;
   for (const auto& e : fs::directory_iterator(kPaperDir)) files += e.path().extension() == ".toml";
+  // experiments/arch/: league tables, always compiled in.
+  for (const auto& e : fs::directory_iterator(kPaperDir.parent_path() / "arch")) files += e.path().extension() == ".toml";
   // experiments/ompl/: tables whose methods need OMPL, compiled in where OMPL was found.
   for (const auto& e : fs::directory_iterator(kPaperDir.parent_path() / "ompl")) ompl_files += e.path().extension() == ".toml";
   for (const EmbeddedFile& f : embedded_paper_table_files()) ompl_embedded += f.path.starts_with("experiments/ompl/");
@@ -135,7 +137,8 @@ TEST(PaperTableFiles, CompiledInFilesAreTheCommittedFiles) {
   ASSERT_EQ(builtin_paper_tables().size(), files + ompl_embedded);
   for (const PaperTable& t : builtin_paper_tables()) {
     EXPECT_EQ(find_builtin_paper_table(t.id), &t);
-    EXPECT_TRUE(fs::exists(kPaperDir / (t.id + ".toml")) || fs::exists(kPaperDir.parent_path() / "ompl" / (t.id + ".toml")))
+    EXPECT_TRUE(fs::exists(kPaperDir / (t.id + ".toml")) || fs::exists(kPaperDir.parent_path() / "ompl" / (t.id + ".toml")) ||
+                fs::exists(kPaperDir.parent_path() / "arch" / (t.id + ".toml")))
         << t.id;
   }
   EXPECT_EQ(find_builtin_paper_table("no-such-table"), nullptr);

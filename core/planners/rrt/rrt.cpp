@@ -29,15 +29,15 @@ class UniformXRand {
 
 class Rrt final : public Planner {
  public:
-  Rrt(std::size_t batch, double robustness_bias) : batch_(batch), robustness_bias_(robustness_bias) {}
+  Rrt(std::size_t batch, StlSearchOptions stl) : batch_(batch), stl_(stl) {}
   PlannerOutcome solve(const PlannerContext& ctx) override {
     UniformXRand source(ctx.system.info().sampling_box);
-    return grow_rrt(ctx, source, batch_, robustness_bias_);
+    return grow_rrt(ctx, source, batch_, stl_);
   }
 
  private:
   std::size_t batch_;
-  double robustness_bias_;
+  StlSearchOptions stl_;
 };
 
 }  // namespace
@@ -45,11 +45,9 @@ class Rrt final : public Planner {
 MethodEntry rrt_method() {
   return {"rrt",
           "baseline RRT (seed 000 Alg. 1-2): uniform x_rand, nearest node by the metric, best input of Ū",
-          {batch_option(), robustness_bias_option()},
-          [](const Json& o) {
-            return std::make_unique<Rrt>(o.at("batch").get<std::size_t>(), o.at("robustness_bias").get<double>());
-          },
-          check_robustness_bias};
+          {batch_option(), robustness_bias_option(), simulation_budget_option()},
+          [](const Json& o) { return std::make_unique<Rrt>(o.at("batch").get<std::size_t>(), StlSearchOptions::from(o)); },
+          check_stl_search_options};
 }
 
 }  // namespace hyfal

@@ -28,6 +28,7 @@
 // (the paper's RRT, bit for bit).
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -93,15 +94,50 @@ inline OptionSpec robustness_bias_option() {
           "bound) with the input of lowest upper bound; 0 = the paper's step",
           "[0, 1]"};
 }
-// β > 0 needs a requirement to be guided by.
-inline void check_robustness_bias(const System& system, const Json& options) {
-  if (options.at("robustness_bias").get<double>() > 0.0 && !system.info().requirement)
-    throw std::invalid_argument("robustness_bias > 0 needs an STL requirement (--set requirement=...)");
+// The simulation budget of an STL search (ARCH-COMP: 1,500 simulations per run), in the unit the
+// optimisers count: a tree's simulation-equivalents are its simulated time (every propagation,
+// kept or not) over the requirement's horizon, so a tree and an optimiser given the same budget
+// integrate the same model time.
+inline OptionSpec simulation_budget_option() {
+  return {"budget", 0,
+          "STL requirements: simulation-equivalents per run (simulated time / the requirement's horizon), "
+          "then the run stops as node_cap; 0 = no cap (ARCH-COMP: 1500)",
+          "[0, 100000000]"};
 }
+
+// The tree's simulated-time cap of `budget` simulation-equivalents (infinite at 0).
+inline double simulated_time_cap(const System& system, std::int64_t budget) {
+  if (budget <= 0) return std::numeric_limits<double>::infinity();
+  return static_cast<double>(budget) * system.info().requirement->formula.horizon();
+}
+
+// What the STL options of rrt and rrt-dstar ask of a system: β > 0 needs a requirement to be
+// guided by, and a budget a requirement of finite, positive horizon to count simulations in.
+inline void check_stl_search_options(const System& system, const Json& options) {
+  const auto& requirement = system.info().requirement;
+  if (options.at("robustness_bias").get<double>() > 0.0 && !requirement)
+    throw std::invalid_argument("robustness_bias > 0 needs an STL requirement (--set requirement=...)");
+  if (options.contains("budget") && options.at("budget").get<std::int64_t>() > 0) {
+    if (!requirement) throw std::invalid_argument("budget > 0 needs an STL requirement (--set requirement=...)");
+    const double h = requirement->formula.horizon();
+    if (!(std::isfinite(h) && h > 0.0))
+      throw std::invalid_argument("budget > 0 needs a requirement of finite, positive horizon (simulations are "
+                                  "simulated time / the horizon)");
+  }
+}
+
+// The STL options the rrt loop takes (robustness_bias_option, simulation_budget_option).
+struct StlSearchOptions {
+  double robustness_bias = 0.0;
+  std::int64_t budget = 0;  // simulation-equivalents; 0 = no cap
+  static StlSearchOptions from(const Json& o) {
+    return {o.at("robustness_bias").get<double>(), o.at("budget").get<std::int64_t>()};
+  }
+};
 
 template <class XRandSource>
 PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::size_t batch = 1,
-                        double robustness_bias = 0.0) {
+                        StlSearchOptions stl = {}) {
   const System& sys = ctx.system;
   const SystemInfo& info = sys.info();
   const std::size_t n = info.dim();
@@ -120,7 +156,14 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   const NodeId root = tree.add(kNoNode, info.initial_mode, info.initial_mode, info.initial_state, {}, 0.0, -1);
   nn.add(root, info.initial_state);
   source.added(info.initial_state);
-  RobustnessTournament guided(robustness_bias);
+  RobustnessTournament guided(stl.robustness_bias);
+  const double time_cap = simulated_time_cap(sys, stl.budget);
+  // The budgets every step checks: time, cancellation, nodes, then simulations.
+  const auto exhausted = [&]() -> std::optional<TrialStatus> {
+    if (auto why = budget.exhausted(c.nodes)) return why;
+    if (c.simulated_time >= time_cap) return TrialStatus::node_cap;
+    return std::nullopt;
+  };
   guided.indexed(root);
   LowestRobustness lowest;
   c.nodes = 1;
@@ -153,7 +196,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
     std::vector<Rng> slot_streams(batch);  // slot s's stream: its guidance coin, x_rand, its random inputs
     std::vector<std::optional<NodeId>> guided_from(batch);
     for (std::uint64_t round = 0;; ++round) {
-      if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
+      if (auto why = exhausted()) return finish(std::nullopt, *why);
       for (std::size_t s = 0; s < batch; ++s) {  // select: the samples, in slot order
         slot_streams[s] = Rng(slot_seed(ctx.seed, round, s));
         guided_from[s] = guided.draw(slot_streams[s], tree);
@@ -184,7 +227,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   std::vector<double> x_rand(n);
   RrtExtension step(sys, metric);
   while (true) {
-    if (auto why = budget.exhausted(c.nodes)) return finish(std::nullopt, *why);
+    if (auto why = exhausted()) return finish(std::nullopt, *why);
     const std::optional<NodeId> from = guided.draw(rng, tree);
     source.sample(rng, x_rand);
     const NodeId near = from ? *from : nn.nearest(x_rand).id;

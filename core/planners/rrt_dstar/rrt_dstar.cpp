@@ -31,7 +31,7 @@ struct DstarOptions {
   int refresh;
   double floor;
   std::size_t batch;
-  double robustness_bias;
+  StlSearchOptions stl;
 };
 
 DstarOptions parse_options(const Json& o) {
@@ -41,7 +41,7 @@ DstarOptions parse_options(const Json& o) {
   d.refresh = o.at("refresh").get<int>();
   d.floor = o.at("floor").get<double>();
   d.batch = o.at("batch").get<std::size_t>();
-  d.robustness_bias = o.at("robustness_bias").get<double>();
+  d.stl = StlSearchOptions::from(o);
   return d;
 }
 
@@ -73,7 +73,7 @@ class RrtDstar final : public Planner {
   explicit RrtDstar(DstarOptions o) : o_(o) {}
   PlannerOutcome solve(const PlannerContext& ctx) override {
     DiscrepancyXRand source(ctx.system.info(), o_);
-    return grow_rrt(ctx, source, o_.batch, o_.robustness_bias);
+    return grow_rrt(ctx, source, o_.batch, o_.stl);
   }
 
  private:
@@ -90,9 +90,9 @@ MethodEntry rrt_dstar_method() {
            {"uniform_mix", 0.1, "fraction of plain uniform draws of x_rand", "[0, 1]"},
            {"refresh", 50, "iterations between recomputations of the cell weights", "[1, 1000000]"},
            {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2", "(0, 1]"},
-           batch_option(), robustness_bias_option()},
+           batch_option(), robustness_bias_option(), simulation_budget_option()},
           [](const Json& o) { return std::make_unique<RrtDstar>(parse_options(o)); },
-          check_robustness_bias};
+          check_stl_search_options};
 }
 
 }  // namespace hyfal

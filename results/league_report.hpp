@@ -1,0 +1,66 @@
+// A league table (PaperTable::league, ARCH-COMP's falsification table) from its trials: per
+// requirement (row) and method (column) the falsification rate k/n and the simulations the
+// falsifying runs took (ARCH-COMP's measure: mean and median over the successful runs), beside
+// the published tools' numbers; per row, which method leads and how each other one compares with
+// it on simulations (Gehan's test, runs that did not falsify censored at the simulations they had:
+// the budget) and on the rate (Fisher's exact test).
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/paper_table.hpp"
+#include "core/trial_record.hpp"
+#include "results/paper_report.hpp"
+#include "results/statistics.hpp"
+
+namespace hyfal {
+
+struct LeagueCell {
+  bool run = false;  // the profile ran this row
+  std::size_t n = 0, falsified = 0, validated = 0, budget_stops = 0, timeouts = 0, not_found = 0, errors = 0;
+  SampleSummary simulations;  // of the falsified runs
+  SampleSummary nodes;        // of the falsified runs (a tree's nodes; an optimiser's evaluations)
+  SampleSummary wall_s;       // every run but errors
+  SampleSummary robustness;   // every run but errors: the witness's, else the lowest bound found
+  // Simulations of every run but errors, a run that did not falsify censored at what it had.
+  std::vector<CensoredValue> observations;
+  std::vector<CensoredValue> falsified_indicators;
+};
+
+// A column against its row's leader.
+struct LeagueComparison {
+  SampleComparison simulations, rate;
+};
+
+struct LeagueRowVerdicts {
+  std::ptrdiff_t leader = -1;  // the column with most falsified runs, ties to fewer mean simulations; -1: none
+  std::vector<LeagueComparison> against_leader;  // per column (the leader's own is empty)
+};
+
+struct LeagueReport {
+  std::string id, title, source, notes;
+  TableLeague league;
+  std::vector<std::vector<LeagueCell>> cells;  // [row][column]
+  std::vector<LeagueRowVerdicts> verdicts;      // per row
+};
+
+// trials[row][column]: the trials of that cell; `run[row]` whether the profile ran the row.
+// Throws std::invalid_argument when the shape does not match the league.
+LeagueReport make_league_report(const PaperTable& table, const std::vector<std::vector<std::vector<TrialRecord>>>& trials,
+                                const std::vector<bool>& run);
+
+// Markdown: the header, the league (rows x columns, "k/n · mean (median)" simulations), the
+// statistics of every cell, the verdicts per row, and the published tools beside ours where they
+// have numbers for a row run (with their sources and settings).
+std::string to_markdown(const LeagueReport& report, const ReportHeader& header);
+
+// RFC 4180 CSV, one line per (row run, column) of ours and per published cell of a row run:
+// table,profile,source,row,suite,column,method,n,falsified,validated,falsified_rate,budget_stops,
+// timeouts,errors,simulations_mean,simulations_median,simulations_std,simulations_ci_low,
+// simulations_ci_high,nodes_mean,time_mean_s,robustness_median,leader,simulations_verdict,
+// simulations_p,rate_verdict,rate_p (source "hyfal", or the published tool's label with the
+// verdict fields empty; NaN an empty field).
+std::string to_csv(const LeagueReport& report, const ReportHeader& header);
+
+}  // namespace hyfal
