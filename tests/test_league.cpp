@@ -31,7 +31,7 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   ASSERT_NE(t, nullptr);
   ASSERT_TRUE(t->league.has_value());
   const TableLeague& l = *t->league;
-  EXPECT_EQ(l.rows.size(), 41u);
+  EXPECT_EQ(l.rows.size(), 35u);
   EXPECT_EQ(l.columns.size(), 6u);
   EXPECT_EQ(l.rows.front().label, "AT1");
   EXPECT_EQ(l.rows.front().suite, "at");
@@ -41,7 +41,7 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   EXPECT_EQ(setting(l.columns.front().settings, "robustness_bias"), "0.5");
   EXPECT_EQ(l.published.size(), 4u);
   EXPECT_EQ(t->quick.trials, 10);
-  EXPECT_EQ(t->quick.row_labels.size(), 32u);
+  EXPECT_EQ(t->quick.row_labels.size(), 26u);
   EXPECT_EQ(setting(t->quick.settings, "budget"), "1500");
   ASSERT_TRUE(t->full && t->published);
   EXPECT_EQ(t->full->trials, 50);
