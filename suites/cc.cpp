@@ -45,6 +45,12 @@
 //    velocities in [−100, 100], t in [0, horizon]; metric weights 1 on positions, 10² on
 //    velocities (a velocity range is 50 times narrower), 0 on t.
 //  - Reachability (no requirement): CC1's unsafe set, s = 40 − (y5 − y4).
+//  - Witness tolerance 1e-2. The validator compares states relative to their size (1e-6 of a
+//    position of 5,000 is 5e-3) but a guard's value, a gap minus its threshold, absolutely: after
+//    tens of located shifts a tree's RK4 witness ends a piece with its gap a few 1e-4 from where
+//    the validator's Dormand-Prince puts it, and at 1e-6 8 of 20 witnesses of CC2 (30-70 pieces)
+//    were refused with "transition 0 is not enabled at the end of the piece" though their
+//    re-simulated robustness was -10 to -79. 1e-2 is far below every threshold (5-40).
 //
 // Requirements (../shared/arch/requirements.md, verbatim): CC1..CC5, CCx; and the variants of CC2
 // and CC3 that FalStar's published numbers use (../shared/arch/published.md): CC2f, CC3f.
@@ -197,7 +203,7 @@ std::shared_ptr<const System> make_cc(const Json& instance) {
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = integration_step;
   info.integrator.max_step = integration_step;
-  info.witness_tolerance = 1e-6;
+  info.witness_tolerance = 1e-2;
   return std::make_shared<ModelSystem<ChasingCars>>(ChasingCars(horizon, keeping == "printed", levels), std::move(info));
 }
 
