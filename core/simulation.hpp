@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <boost/math/tools/toms748_solve.hpp>
@@ -36,6 +38,9 @@ class ModelPropagator final : public Propagator {
     }
   };
   using Rk4 = odeint::runge_kutta4<State>;
+  // flow()'s bound on the adaptive stepper's steps per call: the validator's sub-intervals are
+  // at most the suite's integration step long, where a smooth flow takes a few dozen.
+  static constexpr std::int64_t kMaxAdaptiveSteps = 1'000'000;
   using Dopri5 = odeint::runge_kutta_dopri5<State>;
   using Dense = odeint::dense_output_runge_kutta<odeint::controlled_runge_kutta<Dopri5>>;
 
@@ -192,7 +197,12 @@ class ModelPropagator final : public Propagator {
       dense_.initialize(x0_, 0.0, settings_.step);
       while (dense_.current_time() < duration) {
         dense_.do_step(field);
-        ++steps;
+        // A flow the adaptive stepper cannot pass (a discontinuity it keeps halving its step at,
+        // such as a force that changes sign with the velocity) would never end: the validator
+        // has no deadline, so the work is bounded here.
+        if (++steps > kMaxAdaptiveSteps)
+          throw std::runtime_error("more than " + std::to_string(kMaxAdaptiveSteps) + " adaptive steps over " +
+                                   std::to_string(duration) + " s (is the flow discontinuous?)");
       }
       dense_.calc_state(duration, x0_);
     }

@@ -139,12 +139,13 @@ std::string league_table(const LeagueReport& r) {
 
 std::string statistics_table(const LeagueReport& r) {
   std::string md =
-      "\n## Statistics\n\nPer cell: runs, falsified, validated witnesses, stopped by the budget / the time limit; "
+      "\n## Statistics\n\nPer cell: runs, falsified, validated witnesses, stopped by the budget / the time limit, "
+      "errors (a run whose witness the validator refused counts as an error, not as falsified); "
       "simulations of the falsifying runs (mean, median, std, 95 % CI); nodes of the falsifying runs (a tree's "
       "nodes, an optimiser's evaluations); mean wall time over the runs; median robustness (a falsifying run's "
       "witness's, else the lowest upper bound found).\n\n";
   const std::vector<std::string> head{"requirement", "method",         "n",           "falsified",  "validated",
-                                      "budget",      "timeouts",       "sims mean",   "sims median", "sims std",
+                                      "budget",      "timeouts",       "errors",      "sims mean",   "sims median", "sims std",
                                       "sims 95 % CI", "nodes mean",    "time mean (s)", "robustness median"};
   md += markdown_row(head) + markdown_separator(2, head.size());
   for (std::size_t i = 0; i < r.league.rows.size(); ++i)
@@ -154,7 +155,8 @@ std::string statistics_table(const LeagueReport& r) {
       const SampleSummary& s = cell.simulations;
       md += markdown_row({markdown_cell(r.league.rows[i].label), markdown_cell(r.league.columns[c].label),
                           std::to_string(cell.n), std::to_string(cell.falsified), std::to_string(cell.validated),
-                          std::to_string(cell.budget_stops), std::to_string(cell.timeouts), format_significant(s.mean),
+                          std::to_string(cell.budget_stops), std::to_string(cell.timeouts), std::to_string(cell.errors),
+                          format_significant(s.mean),
                           format_significant(s.median), format_significant(s.stddev),
                           std::isnan(s.ci_low) ? std::string(kMissing)
                                                : fmt::format("[{}, {}]", format_significant(s.ci_low),

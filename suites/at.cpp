@@ -44,6 +44,10 @@
 //    constant on each piece (a tree edge, an ARCH instance's piece); the replay test drives the
 //    model with each sample interval's mean (the midpoint value).
 //
+// The road load's sign(y1): continuous within ±0.01 mph (kStictionBand, below), so that a car
+// braked to a stop does not make the flow discontinuous; the trace never comes below 0.01 mph
+// after its first sample, so the replay cannot tell.
+//
 // The engine-speed saturation [600, 6000] (a saturated integrator) as a flow: at or beyond a bound,
 // when the net torque pushes outward, Ne' = 50 (bound - Ne) (0 on the bound), and the algebra
 // (torque map, converter) and y2 read Ne clamped to the bounds. An RK4 step that crosses the bound
@@ -122,6 +126,26 @@ constexpr double kK[21] = {137.4652089938063,  137.06501915685197, 135.864449645
 constexpr double kTr[21] = {2.232, 2.075, 1.975, 1.846, 1.720, 1.564, 1.409, 1.254, 1.096, 1.080, 1.061,
                             1.043, 1.028, 1.012, 1.002, 1.002, 1.001, 0.998, 0.999, 1.001, 1.002};
 
+// The converter's segment of speed ratio sr, found arithmetically: the breakpoints are 0.1 apart
+// up to 0.8, 0.01 apart up to 0.9, 0.02 apart up to 0.94 (the flow evaluates it at every RK4
+// stage; a scan took up to 20 comparisons). The tables are continuous, so a rounding that picks
+// the neighbouring segment at a breakpoint gives the same value.
+struct ConverterPoint {
+  double k, tr;  // capacity factor K(sr) and torque ratio TR(sr)
+};
+ConverterPoint converter(double sr) {
+  int i;
+  if (sr < 0.8)
+    i = static_cast<int>(std::floor(sr * 10.0));
+  else if (sr < 0.9)
+    i = 8 + static_cast<int>(std::floor((sr - 0.8) * 100.0));
+  else
+    i = 18 + static_cast<int>(std::floor((sr - 0.9) * 50.0));
+  i = std::clamp(i, 0, 19);  // beyond either end: the end segment, extrapolated
+  const double w = (sr - kSr[i]) * (i < 8 ? 10.0 : i < 18 ? 100.0 : 50.0);
+  return {kK[i] + w * (kK[i + 1] - kK[i]), kTr[i] + w * (kTr[i + 1] - kTr[i])};
+}
+
 // Shift schedule: speed thresholds [mph] by throttle (rows) and current gear (columns).
 constexpr std::array<double, 6> kUpBp = {0, 25, 35, 50, 90, 100};
 constexpr double kUp[6][4] = {{10, 30, 50, 1e6}, {10, 30, 50, 1e6}, {15, 30, 50, 1e6},
@@ -141,14 +165,25 @@ constexpr double kAbortMargin = 1e-6;  // mph
 // stable RK4 step up to 0.05 s), so that every integrator ends on the bound, not where its step
 // happened to overshoot it.
 constexpr double kBoundPull = 50.0;
+// sign(y1) of the road load as clamp(y1 / band, -1, 1): a car braked to a stop has the load
+// flip sign with the speed, and the exact sign makes the flow discontinuous at y1 = 0 (the
+// fixed-step RK4 chatters around 0 by a few 1e-4 mph; the validator's adaptive Dormand-Prince at
+// 1e-12 halved its step there without end: one ARCH witness stalled it for minutes). Within the
+// band the load is proportional to the speed, so a stopped car stays stopped unless the drive
+// exceeds it. The load's jump across the band is at most (325 + 40) lb·ft over 0.01 mph: a
+// stiffness 215 /s, inside RK4's stability at 0.01 s (h λ = 2.2 < 2.78).
+constexpr double kStictionBand = 0.01;  // mph
 
 // Engine torque Te(throttle, rpm): linear in throttle, linear (extrapolated) in rpm.
 double engine_torque(double throttle, double rpm) {
   const double th = std::clamp(throttle, 0.0, 100.0);
   const int i = th < 20.0 ? 0 : std::min(8, 1 + static_cast<int>((th - 20.0) / 10.0));
-  const double wt = (th - kThrottleBp[i]) / (kThrottleBp[i + 1] - kThrottleBp[i]);
-  const int j = std::clamp(static_cast<int>(std::floor((rpm - kRpm0) / kRpmSpacing)), 0, kRpmPoints - 2);
-  const double wr = (rpm - (kRpm0 + j * kRpmSpacing)) / kRpmSpacing;
+  // Products with the breakpoints' reciprocal spacings, not quotients: the flow runs at every
+  // RK4 stage, and a division costs several multiplications.
+  const double wt = (th - kThrottleBp[i]) * (i == 0 ? 1.0 / 20.0 : 1.0 / 10.0);
+  const double rpm_steps = (rpm - kRpm0) * (1.0 / kRpmSpacing);
+  const int j = std::clamp(static_cast<int>(std::floor(rpm_steps)), 0, kRpmPoints - 2);
+  const double wr = rpm_steps - j;
   const double a = kTorqueMap[i][j] + wt * (kTorqueMap[i + 1][j] - kTorqueMap[i][j]);
   const double b = kTorqueMap[i][j + 1] + wt * (kTorqueMap[i + 1][j + 1] - kTorqueMap[i][j + 1]);
   return a + wr * (b - a);
@@ -175,9 +210,9 @@ class Transmission {
     const int g = gear(q);
     const double ne = engine_speed(x);
     const double sr = kRatio[g - 1] * kRfd * x[kNw] / ne;
-    const double k = lookup(kSr, kK, 1, sr);
-    const double ti = (ne / k) * (ne / k);
-    const double ne_rate = (engine_torque(u[0], ne) - ti) / kIei;
+    const ConverterPoint c = converter(sr);
+    const double ti = (ne / c.k) * (ne / c.k);
+    const double ne_rate = (engine_torque(u[0], ne) - ti) * (1.0 / kIei);
     if (x[kNe] <= kNeMin && ne_rate < 0.0)
       dx[kNe] = kBoundPull * (kNeMin - x[kNe]);
     else if (x[kNe] >= kNeMax && ne_rate > 0.0)
@@ -185,9 +220,9 @@ class Transmission {
     else
       dx[kNe] = ne_rate;
     const double v = speed(x);
-    const double drive = kRfd * kRatio[g - 1] * lookup(kSr, kTr, 1, sr) * ti;
-    const double resistance = (v > 0.0 ? 1.0 : v < 0.0 ? -1.0 : 0.0) * (u[1] + 40.0 + 0.02 * v * v);
-    dx[kNw] = (drive - resistance) / kIv;
+    const double drive = kRfd * kRatio[g - 1] * c.tr * ti;
+    const double resistance = std::clamp(v * (1.0 / kStictionBand), -1.0, 1.0) * (u[1] + 40.0 + 0.02 * v * v);
+    dx[kNw] = (drive - resistance) * (1.0 / kIv);
     dx[kTime] = 1.0;
     dx[kClock] = controller(q) == kSteady ? 0.0 : 1.0;
   }
