@@ -109,10 +109,7 @@ std::string header_text(const LeagueReport& r, const ReportHeader& header) {
                     header.profile, header.trials, timeout_text(header), header.max_nodes, header.seed,
                     settings_text(header.profile_settings));
   md += fmt::format("- experiment: {}\n", header.experiment);
-  md += fmt::format("- machine: {}, nproc {}, {}; {} worker threads\n", header.host, header.nproc, header.cpu_model,
-                    header.threads);
-  md += fmt::format("- date (UTC): {}\n- git commit: {}\n", header.date_utc, header.git_commit);
-  md += cpu_time_line(header);
+  md += run_lines(header);
   md += notes_line(r.notes);
   return md;
 }

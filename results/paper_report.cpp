@@ -380,6 +380,12 @@ std::string timeout_text(const ReportHeader& header) {
   return fmt::format("{} ({})", s, fmt::join(caps, ", "));
 }
 
+std::string run_lines(const ReportHeader& header) {
+  return fmt::format("- machine: {}, nproc {}, {}; {} worker threads\n- date (UTC): {}\n- git commit: {}\n", header.host,
+                     header.nproc, header.cpu_model, header.threads, header.date_utc, header.git_commit) +
+         cpu_time_line(header);
+}
+
 std::string cpu_time_line(const ReportHeader& header) {
   if (header.trials_run == 0) return "";
   const double s = header.cpu_s;
@@ -399,11 +405,7 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header) {
                     settings_text(header.profile_settings));
   md += fmt::format("- suite: {}; experiment: {}\n", report.suite.empty() ? std::string(kMissing) : report.suite,
                     header.experiment.empty() ? std::string(kMissing) : header.experiment);
-  md += fmt::format("- machine: {}, nproc {}, {}; {} worker threads\n", header.host, header.nproc, header.cpu_model,
-                    header.threads);
-  md += fmt::format("- date (UTC): {}\n", header.date_utc);
-  md += fmt::format("- git commit: {}\n", header.git_commit);
-  md += cpu_time_line(header);
+  md += run_lines(header);
   md += notes_line(report.notes);
 
   bool any_bound = false;

@@ -164,6 +164,8 @@ std::string to_markdown(const PaperReport& report, const ReportHeader& header);
 
 // The header's time limit with the per-row caps, e.g. "timeout 120 s (RRT 30 s, RRT[D*] 30 s)".
 std::string timeout_text(const ReportHeader& header);
+// The lines every table's header ends with: machine, date, git commit, then cpu_time_line.
+std::string run_lines(const ReportHeader& header);
 // "- CPU time: 1.52 h over 1,200 trials (their CPU seconds summed)\n", or "" with no trials.
 std::string cpu_time_line(const ReportHeader& header);
 

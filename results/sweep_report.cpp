@@ -168,10 +168,7 @@ std::string header_text(const SweepReport& r, const ReportHeader& header) {
                         ? "; a row's columns after one where every trial was stopped are not run (X (skipped))"
                         : "");
   md += fmt::format("- suite: {}; experiment: {}\n", r.suite.empty() ? std::string(kMissing) : r.suite, header.experiment);
-  md += fmt::format("- machine: {}, nproc {}, {}; {} worker threads\n", header.host, header.nproc, header.cpu_model,
-                    header.threads);
-  md += fmt::format("- date (UTC): {}\n- git commit: {}\n", header.date_utc, header.git_commit);
-  md += cpu_time_line(header);
+  md += run_lines(header);
   md += notes_line(r.notes);
   return md;
 }
