@@ -36,6 +36,10 @@
 //    names them, with units), read by STL requirements (core/requirements/requirement.hpp). A
 //    discrete output (a gear) is a function of q. Every system also has its inputs and `safety`
 //    (= spec) as signals.
+//  - Optional: `static constexpr int fixed_dim`, the state dimension when the type fixes it
+//    (dim() must return it). The integrator then keeps its states in std::array, which odeint
+//    steps with unrolled loops (CC's 11 states: 1.5x faster per step than std::vector); the
+//    arithmetic is the same, element by element, so the results are the same bits.
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -273,6 +277,13 @@ struct SystemInfo {
   // With continuous_random_inputs: how many inputs a method that tries every input of Ū and keeps
   // the best (rrt, rrt-dstar, rrft, enhanced-rrt) draws per extension instead (core/inputs.hpp).
   int random_inputs_per_extension = 1;
+  // The inputs are an external signal, constant over pieces of δt whatever the system does (the
+  // ARCH-COMP input instances): the same box in every mode and at every state. Under an STL
+  // requirement a tree edge then holds its input for the whole δt through the transitions on the
+  // way (core/held_input.hpp), so that a tree's input signal is one the instance admits, and the
+  // validator checks that a witness's input changes only at multiples of δt. Otherwise (false,
+  // or reachability of s <= 0) an edge ends at the first transition (seed 002 Alg. 3).
+  bool held_inputs = false;
   IntegratorSettings integrator;
   double witness_tolerance = 1e-6;     // validation tolerance on states and on s
   // STL: the output signals (values from M::outputs, in this order), the inputs' units (empty, or

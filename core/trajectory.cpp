@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -247,6 +248,26 @@ Witness witness_from_json(const Json& j) {
   return w;
 }
 
+HeldInputEnd append_held_input(Trajectory& t, Propagator& prop, Mode& q, std::vector<double>& x,
+                               std::vector<double>& next, std::span<const double> u, std::span<const double> p,
+                               double duration) {
+  const HeldInputEnd e = hold_input(
+      prop, q, x, next, u, p, 0.0, duration, [](double, Mode) { return true; },
+      [&](const PropagationResult& r, Mode from, std::span<const double> x_start, double) {
+        TrajectoryPiece tp;
+        tp.mode = from;
+        tp.u.assign(u.begin(), u.end());
+        tp.duration = r.duration;
+        tp.transition = r.end == PropagationEnd::jumped ? r.transition : -1;
+        tp.x_start.assign(x_start.begin(), x_start.end());
+        tp.x_end.resize(x_start.size());
+        prop.flow(from, x_start, u, p, r.duration, tp.x_end);  // before the reset
+        if (r.duration > 0.0 || tp.transition >= 0) t.pieces.push_back(std::move(tp));
+      });
+  q = e.result.mode;
+  return e;
+}
+
 Trajectory trajectory_from_tree(const System& system, Propagator& propagator,
                                 const NodeStore& tree, NodeId leaf,
                                 std::span<const double> parameters) {
@@ -256,18 +277,39 @@ Trajectory trajectory_from_tree(const System& system, Propagator& propagator,
   const NodeId root = path.front();
   t.initial_mode = tree.info(root).mode;
   t.initial_x.assign(tree.state(root).begin(), tree.state(root).end());
-  for (std::size_t i = 1; i < path.size(); ++i) {
-    const NodeInfo& n = tree.info(path[i]);
-    TrajectoryPiece p;
-    p.mode = n.edge_mode;
-    p.u.assign(tree.input(path[i]).begin(), tree.input(path[i]).end());
-    p.duration = n.duration;
-    p.transition = n.transition;
-    const auto xs = tree.state(path[i - 1]);
-    p.x_start.assign(xs.begin(), xs.end());
-    p.x_end.resize(xs.size());
-    propagator.flow(p.mode, xs, p.u, parameters, p.duration, p.x_end);
-    t.pieces.push_back(std::move(p));
+  if (system.info().requirement && system.info().held_inputs) {
+    // A fresh propagator in STL mode, as the tree propagated its edges (the planner's may be
+    // interrupted: its deadline passed as the falsifying node was found).
+    NoSamples none;
+    const auto prop = system.make_propagator();
+    prop->set_trace(&none);
+    std::vector<double> x, next;
+    for (std::size_t i = 1; i < path.size(); ++i) {
+      const NodeInfo& n = tree.info(path[i]);
+      Mode q = n.edge_mode;
+      const auto xs = tree.state(path[i - 1]);
+      x.assign(xs.begin(), xs.end());
+      // Held for δt, as every tree method asks (n.duration, the sum of the flow times, may differ
+      // from it in the last bit, and an edge cut short by the invariant stops there again).
+      append_held_input(t, *prop, q, x, next, tree.input(path[i]), parameters, system.info().step_duration);
+      const auto xe = tree.state(path[i]);
+      if (q != n.mode || !std::equal(x.begin(), x.end(), xe.begin(), xe.end()))
+        throw std::logic_error("trajectory_from_tree: an edge re-simulates to another state than the tree's");
+    }
+  } else {
+    for (std::size_t i = 1; i < path.size(); ++i) {
+      const NodeInfo& n = tree.info(path[i]);
+      TrajectoryPiece p;
+      p.mode = n.edge_mode;
+      p.u.assign(tree.input(path[i]).begin(), tree.input(path[i]).end());
+      p.duration = n.duration;
+      p.transition = n.transition;
+      const auto xs = tree.state(path[i - 1]);
+      p.x_start.assign(xs.begin(), xs.end());
+      p.x_end.resize(xs.size());
+      propagator.flow(p.mode, xs, p.u, parameters, p.duration, p.x_end);
+      t.pieces.push_back(std::move(p));
+    }
   }
   t.final_mode = tree.info(leaf).mode;
   t.final_x.assign(tree.state(leaf).begin(), tree.state(leaf).end());
@@ -330,6 +372,18 @@ Failure outside_the_system(const System& system, const Trajectory& t) {
     if (!(t.pieces[i].duration >= 0.0 && t.pieces[i].duration <= longest))
       return fmt::format("pieces[{}].duration = {:.6g} s is longer than any method extends a node (δt = {:.6g} s)", i,
                          t.pieces[i].duration, info.step_duration);
+  if (info.held_inputs && info.requirement) {  // a held signal changes only at multiples of δt (ARCH-COMP)
+    double now = 0.0;
+    for (std::size_t i = 0; i + 1 < t.pieces.size(); ++i) {
+      now += t.pieces[i].duration;
+      if (t.pieces[i + 1].u == t.pieces[i].u) continue;
+      const double k = std::round(now / info.step_duration);
+      if (std::abs(now - k * info.step_duration) > 1e-6 * std::max(1.0, now))
+        return fmt::format("pieces[{}] changes the input at t = {:.9g} s, not at a multiple of δt = {:.6g} s (the "
+                           "system's inputs are a signal held for δt)",
+                           i + 1, now, info.step_duration);
+    }
+  }
   for (std::size_t i = 0; i < t.parameters.size(); ++i)
     if (t.parameters[i] < info.parameter_box.lo[i] - tol || t.parameters[i] > info.parameter_box.hi[i] + tol)
       return fmt::format("parameter {} = {} is outside P", i, t.parameters[i]);
@@ -530,7 +584,7 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
 
   const auto propagator = system.make_propagator(tight);
   Replay run{system, *propagator, t.parameters, system.info().witness_tolerance, tight.max_step, t.initial_mode,
-             t.initial_x, std::vector<double>(t.initial_x.size())};
+             t.initial_x, std::vector<double>(t.initial_x.size()), 0.0, std::nullopt, {}, 0.0};
   if (system.info().requirement) run.sampler.emplace(system, *system.info().requirement);
   Failure why;
   for (std::size_t i = 0; i < t.pieces.size() && !why; ++i) why = replay_piece(run, t.pieces[i], i);

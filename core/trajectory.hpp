@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/held_input.hpp"
+
 #include "core/model.hpp"
 #include "core/tree.hpp"
 
@@ -70,10 +72,20 @@ Witness witness_from_json(const Json& j);
 Witness witness_from_text(std::string_view text);
 
 // The trajectory from the root to `leaf`; x_end of each piece is re-flowed with `propagator`
-// (the tree stores post-reset states only).
+// (the tree stores post-reset states only). Under an STL requirement over held inputs
+// (SystemInfo::held_inputs) a tree edge is an input held through transitions: it is re-simulated
+// into its flow pieces (append_held_input), which end where the tree's edge ended.
 Trajectory trajectory_from_tree(const System& system, Propagator& propagator,
                                 const NodeStore& tree, NodeId leaf,
                                 std::span<const double> parameters);
+
+// Appends to t the pieces of u held from (q, x) for `duration` (hold_input, core/held_input.hpp):
+// one per flow between transitions, x_end before the reset. prop must be in STL mode (a sink
+// set), so that the unsafe set does not stop the flow. q and x become the end's; returns the
+// held input's end.
+HeldInputEnd append_held_input(Trajectory& t, Propagator& prop, Mode& q, std::vector<double>& x,
+                               std::vector<double>& next, std::span<const double> u, std::span<const double> p,
+                               double duration);
 
 struct ValidationReport {
   bool valid = false;

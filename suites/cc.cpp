@@ -39,7 +39,10 @@
 //    BM_SimulateCc).
 //  - δt (one tree extension, one input piece) = `step`, default 5 s. `input_instance` is ARCH-COMP's:
 //    1 (piecewise continuous inputs: any step) or 2 (piecewise constant, discontinuities at least
-//    5 s apart: step must be >= 5).
+//    5 s apart: step must be >= 5). The inputs are a held signal (SystemInfo::held_inputs): under
+//    a requirement a tree edge holds its input for the whole δt through the followers' shifts, so
+//    a tree's input changes only at multiples of δt, like an optimiser's, and at δt >= 5 s the two
+//    instances are one search.
 //  - Ū = input_levels² grid over [0, 1]² (default 3: {0, 0.5, 1}).
 //  - x_rand: positions in [−5000, 100] (full throttle for 100 s takes the leader to −5000),
 //    velocities in [−100, 100], t in [0, horizon]; metric weights 1 on positions, 10² on
@@ -81,6 +84,7 @@ class ChasingCars {
       : horizon_(horizon), keeping_sign_(keeping_backward ? 1.0 : -1.0),
         u_(InputSet::grid({{0.0, 0.0}, {1.0, 1.0}}, levels)) {}
 
+  static constexpr int fixed_dim = kDim;
   int dim() const { return kDim; }
   bool valid_mode(Mode q) const {
     if (q >> (2 * (kCars - 1))) return false;
@@ -203,6 +207,7 @@ std::shared_ptr<const System> make_cc(const Json& instance) {
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = integration_step;
   info.integrator.max_step = integration_step;
+  info.held_inputs = true;
   info.witness_tolerance = 1e-2;
   return std::make_shared<ModelSystem<ChasingCars>>(ChasingCars(horizon, keeping == "printed", levels), std::move(info));
 }

@@ -19,6 +19,7 @@
 #include "core/options.hpp"
 #include "core/planners/rrt/rrt_loop.hpp"
 #include "core/requirements/requirement.hpp"
+#include "core/requirements/simulate.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
 #include "parallel/trial_engine.hpp"
@@ -290,6 +291,90 @@ TEST(StlSearch, TheValidatorRefusesATraceThatSatisfiesItsRequirement) {
   // The same trajectory without a requirement in the witness: refused as not naming one.
   w.requirement.reset();
   EXPECT_NE(validate_witness(*sys, w).reason.find("records none"), std::string::npos);
+}
+
+// Over a system whose inputs are a held signal (AT, CC: SystemInfo::held_inputs) a tree edge is
+// one input piece of δt held through the transitions on the way, as the ARCH-COMP instances and
+// the optimisers have it: the witness's input changes only at multiples of δt although shifts
+// fall inside pieces, and it is exactly the trajectory of the same signal as an optimiser
+// simulates it (stl::trajectory_of_inputs), state for state.
+TEST(StlSearch, ATreeEdgeOverAHeldSignalIsOneInputPieceThroughTransitions) {
+  struct Case {
+    std::string suite;
+    Sets sets;
+    std::uint64_t seed;
+  };
+  for (const Case& c : {Case{"at", {{"requirement", "ATc2"}}, 1}, Case{"cc", {{"requirement", "CC1"}}, 3},
+                        Case{"at", {{"requirement", "AT2"}, {"input_instance", "2"}}, 2}}) {
+    const auto sys = make(c.suite, c.sets);
+    const double dt = sys->info().step_duration;
+    auto rrt = find_method("rrt")->make(resolve_options(find_method("rrt")->options, {{"robustness_bias", "0.5"}}));
+    const PlannerOutcome o = rrt->solve({*sys, sys->info().parameters, c.seed, {60.0, 20000}});
+    ASSERT_EQ(o.status, TrialStatus::falsified) << c.suite;
+    const Trajectory& t = *o.trajectory;
+    std::vector<stl::InputPiece> signal;  // the input on each δt of the grid
+    double now = 0.0;
+    int off_grid_transitions = 0;
+    for (const TrajectoryPiece& piece : t.pieces) {
+      const double k = std::floor(now / dt + 1e-9);
+      const bool on_grid = std::abs(now - k * dt) <= 1e-9 * std::max(1.0, now);
+      if (on_grid && (signal.size() <= k)) signal.push_back({dt, piece.u});
+      ASSERT_FALSE(signal.empty());
+      EXPECT_EQ(piece.u, signal.back().u) << c.suite << ": the input changes at t = " << now << ", off the grid of "
+                                          << dt << " s";
+      now += piece.duration;
+      const double kk = std::round(now / dt);
+      if (piece.transition >= 0 && std::abs(now - kk * dt) > 1e-6) ++off_grid_transitions;
+    }
+    EXPECT_GT(off_grid_transitions, 0) << c.suite << ": no transition inside an edge";
+    const double last = now - dt * static_cast<double>(signal.size() - 1);  // δt, unless the horizon cut it
+    if (std::abs(last - dt) > 1e-9) signal.back().duration = last;
+    const Trajectory replay = stl::trajectory_of_inputs(*sys, signal, sys->info().parameters);
+    ASSERT_EQ(replay.pieces.size(), t.pieces.size()) << c.suite;
+    for (std::size_t i = 0; i < t.pieces.size(); ++i) {
+      EXPECT_EQ(replay.pieces[i].x_start, t.pieces[i].x_start) << c.suite << " piece " << i;
+      EXPECT_EQ(replay.pieces[i].x_end, t.pieces[i].x_end) << c.suite << " piece " << i;
+      EXPECT_EQ(replay.pieces[i].transition, t.pieces[i].transition) << c.suite << " piece " << i;
+    }
+    EXPECT_EQ(replay.final_x, t.final_x) << c.suite;
+
+    const ValidationReport v = validate_witness(*sys, make_witness(*sys, "rrt", 0, t));
+    EXPECT_TRUE(v.valid) << c.suite << ": " << v.reason;
+  }
+}
+
+// The validator holds a held signal to its grid: an input that changes inside a δt is refused
+// under a requirement (no method of hyfal makes one), and is no concern of reachability.
+TEST(StlSearch, TheValidatorRefusesAHeldSignalThatChangesOffItsGrid) {
+  const std::vector<stl::InputPiece> off_grid{{2.5, {1.0, 0.0}}, {2.5, {0.0, 1.0}}, {5.0, {1.0, 0.0}}};
+  const auto stl_sys = make("cc", {{"requirement", "CC1"}});
+  const ValidationReport r =
+      validate_witness(*stl_sys, make_witness(*stl_sys, "hand", 0, stl::trajectory_of_inputs(*stl_sys, off_grid, {})));
+  EXPECT_FALSE(r.valid);
+  EXPECT_NE(r.reason.find("changes the input at t = 2.5 s"), std::string::npos) << r.reason;
+  const auto reach = make("cc", {});
+  const ValidationReport q =
+      validate_witness(*reach, make_witness(*reach, "hand", 0, stl::trajectory_of_inputs(*reach, off_grid, {})));
+  EXPECT_EQ(q.reason.find("changes the input"), std::string::npos) << q.reason;
+}
+
+// An optimiser stops only at a falsification the validator confirms. This Nelder-Mead trial of the
+// published ATc4 row (trial 39 of 50, its seed as the trial engine derives it) found a signal of
+// robustness just below 0 by the search's RK4 that the validator's Dormand-Prince put at +0.00066,
+// and its run used to end there as an error; now it counts the refusal and goes on.
+TEST(StlSearch, AnOptimiserGoesOnPastACandidateTheValidatorRefuses) {
+  const auto sys = make("at", {{"requirement", "ATc4"}, {"step", "7.5"}});
+  const MethodEntry* m = find_method("nelder-mead");
+  auto nm = m->make(resolve_options(m->options, {{"budget", "300"}}));
+  const PlannerOutcome o = nm->solve({*sys, sys->info().parameters, 4758125943423951583ULL, {60.0, 1000000}});
+  ASSERT_TRUE(o.metrics.contains("refused_candidates"));
+  EXPECT_GE(o.metrics.at("refused_candidates").get<int>(), 1);
+  ASSERT_TRUE(o.status == TrialStatus::falsified || o.status == TrialStatus::node_cap);
+  EXPECT_GT(o.counters.nodes, 160);  // past the refused candidate, the 160th simulation
+  if (o.status == TrialStatus::falsified) {
+    const ValidationReport v = validate_witness(*sys, make_witness(*sys, "nelder-mead", 0, *o.trajectory));
+    EXPECT_TRUE(v.valid) << v.reason;
+  }
 }
 
 // Batches and robustness guidance give the same trials at any thread count.

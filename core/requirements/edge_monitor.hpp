@@ -8,10 +8,12 @@
 // extension's input: an input signal's value at a sample is the input of the piece that reaches
 // it, and at the first sample the first piece's).
 #pragma once
+#include <algorithm>
 #include <limits>
 #include <span>
 #include <vector>
 
+#include "core/held_input.hpp"
 #include "core/model.hpp"
 #include "core/requirements/prefix_monitor.hpp"
 #include "core/requirements/requirement.hpp"
@@ -23,7 +25,8 @@ class EdgeMonitor {
  public:
   // `system` must have a requirement (info().requirement).
   explicit EdgeMonitor(const System& system)
-      : requirement_(*system.info().requirement), sampler_(system, requirement_), monitor_(requirement_.formula) {
+      : requirement_(*system.info().requirement), sampler_(system, requirement_), monitor_(requirement_.formula),
+        held_(system.info().held_inputs) {
     monitor_.initial_state(empty_);
   }
 
@@ -42,6 +45,33 @@ class EdgeMonitor {
   }
   // After the candidate's propagation: `prop` back to reachability.
   static void end(Propagator& prop) { prop.set_trace(nullptr); }
+  // The candidate edge from node `from` (mode q, state x) under u for `duration`, sampled:
+  // begin(), the propagation into `out`, end(). Over a system whose inputs are a held signal
+  // (SystemInfo::held_inputs) the edge is one input piece held through the transitions on the
+  // way (core/held_input.hpp), as an optimiser's simulation holds it; otherwise it is one
+  // propagation, which ends at the first transition.
+  PropagationResult propagate(const NodeStore& tree, NodeId from, Mode q, std::span<const double> x,
+                              std::span<const double> u, std::span<const double> p, double duration, Propagator& prop,
+                              std::span<double> out) {
+    begin(tree, from, u, p, prop);
+    PropagationResult r;
+    if (!held_) {
+      r = prop.propagate(q, x, u, p, duration, out);
+    } else {
+      held_x_.assign(x.begin(), x.end());
+      const HeldInputEnd e = hold_input(
+          prop, q, held_x_, held_next_, u, p, PrefixMonitor::bounds(state_of(tree, from)).time, duration,
+          [&](double t, Mode) {
+            sampler_.begin(t, u, p, rows_);
+            return true;
+          },
+          [](const PropagationResult&, Mode, std::span<const double>, double) {});
+      r = e.result;
+      std::copy(held_x_.begin(), held_x_.end(), out.begin());
+    }
+    end(prop);
+    return r;
+  }
   // The bounds of the node the candidate just propagated would reach (for a choice of input by
   // robustness); keep() after it keeps that state too, and finish() has nothing left to do.
   const PrefixBounds& evaluate(const NodeStore& tree, NodeId from) {
@@ -94,7 +124,8 @@ class EdgeMonitor {
   const Requirement& requirement_;
   SignalSampler sampler_;
   PrefixMonitor monitor_;
-  std::vector<double> empty_, rows_, kept_, child_, candidate_state_;
+  bool held_;
+  std::vector<double> empty_, rows_, kept_, child_, candidate_state_, held_x_, held_next_;
   PrefixBounds bounds_, candidate_bounds_;
   bool evaluated_ = false, kept_evaluated_ = false;
 };

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "core/held_input.hpp"
 #include "core/requirements/robustness.hpp"
 
 namespace hyfal::stl {
@@ -41,13 +42,6 @@ class AllSignals final : public SampleSink {
   std::span<const double> u_;
 };
 
-// A sink that keeps nothing: it puts a propagator in STL mode (the unsafe set does not stop the
-// flow) where no samples are needed.
-class NoSamples final : public SampleSink {
- public:
-  void sample(double, Mode, std::span<const double>, double) override {}
-};
-
 }  // namespace
 
 Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
@@ -62,29 +56,8 @@ Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece
   Mode q = info.initial_mode;
   std::vector<double> x = info.initial_state, next(x.size());
   for (const InputPiece& piece : pieces) {
-    double left = piece.duration;
-    bool over = false;
-    int jumps_here = 0;
-    while (left > 1e-12 * std::max(1.0, piece.duration) && !over) {
-      const PropagationResult r = prop->propagate(q, x, piece.u, p, left, next);
-      if (r.end == PropagationEnd::rejected) break;
-      jumps_here = r.duration > 0.0 ? 0 : jumps_here + 1;
-      if (jumps_here > 10000) break;
-      TrajectoryPiece tp;
-      tp.mode = q;
-      tp.u = piece.u;
-      tp.duration = r.duration;
-      tp.transition = r.end == PropagationEnd::jumped ? r.transition : -1;
-      tp.x_start = x;
-      tp.x_end.resize(x.size());
-      prop->flow(q, x, piece.u, p, r.duration, tp.x_end);  // before the reset
-      if (r.duration > 0.0 || tp.transition >= 0) t.pieces.push_back(std::move(tp));
-      over = r.end == PropagationEnd::invariant;
-      x.swap(next);
-      q = r.mode;
-      left -= r.duration;
-    }
-    if (over) break;
+    const HeldInputEnd e = append_held_input(t, *prop, q, x, next, piece.u, p, piece.duration);
+    if (e.result.end == PropagationEnd::invariant || e.result.end == PropagationEnd::rejected) break;
   }
   t.final_mode = q;
   t.final_x = x;
@@ -134,36 +107,26 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   sink.begin(0.0, pieces.empty() ? std::span<const double>(no_input) : std::span<const double>(pieces[0].u));
   sink.sample(0.0, q, x, std::nan(""));  // the first sample, with the first piece's input
   double t = 0.0;
-  constexpr int kMaxJumpsAtOneInstant = 10000;
   for (const InputPiece& piece : pieces) {
-    double left = piece.duration;
-    int jumps_here = 0;
-    while (left > 1e-12 * std::max(1.0, piece.duration)) {
-      if (!system.inputs(q).box.contains(piece.u)) {
-        trace.end = PropagationEnd::rejected;
-        trace.problem = fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", t, system.mode_name(q));
-        prop.set_trace(nullptr);
-        return trace;
-      }
-      sink.begin(t, piece.u);
-      const PropagationResult r = prop.propagate(q, x, piece.u, p, left, next);
-      trace.integration_steps += r.steps;
-      if (r.end == PropagationEnd::rejected || r.end == PropagationEnd::invariant) {
-        trace.end = r.end;
-        prop.set_trace(nullptr);
-        return trace;
-      }
-      jumps_here = r.duration > 0.0 ? 0 : jumps_here + 1;
-      if (jumps_here > kMaxJumpsAtOneInstant) {
-        trace.end = PropagationEnd::rejected;
-        prop.set_trace(nullptr);
-        return trace;
-      }
-      x.swap(next);
-      q = r.mode;
-      t += r.duration;
-      left -= r.duration;
+    const HeldInputEnd e = hold_input(
+        prop, q, x, next, piece.u, p, t, piece.duration,
+        [&](double now, Mode at) {
+          if (!system.inputs(at).box.contains(piece.u)) {
+            trace.problem = fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", now,
+                                        system.mode_name(at));
+            return false;
+          }
+          sink.begin(now, piece.u);
+          return true;
+        },
+        [](const PropagationResult&, Mode, std::span<const double>, double) {});
+    trace.integration_steps += e.result.steps;
+    if (e.stopped || e.result.end == PropagationEnd::rejected || e.result.end == PropagationEnd::invariant) {
+      trace.end = e.stopped ? PropagationEnd::rejected : e.result.end;
+      break;
     }
+    q = e.result.mode;
+    t = e.end_time;
   }
   prop.set_trace(nullptr);
   return trace;

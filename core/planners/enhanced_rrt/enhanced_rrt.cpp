@@ -396,11 +396,12 @@ class EnhancedSearch {
     bool any_finite_t2go = false;
     for (std::size_t j = 0; j < nu; ++j) {
       std::span<double> xs(slot.states.data() + j * n, n);
-      if (slot.stl) slot.stl->begin(t.nodes, slot.near, slot.U.input(j), p, *slot.prop);
-      slot.results[j] = slot.prop->propagate(q, x_near, slot.U.input(j), p, sys.info().step_duration, xs);
+      const double dt = sys.info().step_duration;
       if (slot.stl) {
-        stl::EdgeMonitor::end(*slot.prop);
+        slot.results[j] = slot.stl->propagate(t.nodes, slot.near, q, x_near, slot.U.input(j), p, dt, *slot.prop, xs);
         slot.stl->set_aside(slot.rows[j]);
+      } else {
+        slot.results[j] = slot.prop->propagate(q, x_near, slot.U.input(j), p, dt, xs);
       }
       RrtExtension::count(slot.results[j], slot.counters);
       if (!RrtExtension::makes_progress(slot.results[j])) continue;  // the no-progress filter

@@ -75,9 +75,9 @@ class RrtExtension {
     double best = std::numeric_limits<double>::infinity();
     double best_upper = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < inputs_.count(); ++j) {
-      if (stl_) stl_->begin(tree, near, inputs_.input(j), p, prop);
-      const PropagationResult r = prop.propagate(q, x_near, inputs_.input(j), p, system_.info().step_duration, candidate_);
-      if (stl_) stl_->end(prop);
+      const double dt = system_.info().step_duration;
+      const PropagationResult r = stl_ ? stl_->propagate(tree, near, q, x_near, inputs_.input(j), p, dt, prop, candidate_)
+                                       : prop.propagate(q, x_near, inputs_.input(j), p, dt, candidate_);
       count(r, counters);
       if (!makes_progress(r)) continue;
       const double d = metric_.distance(x_rand, candidate_);
