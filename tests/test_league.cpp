@@ -115,7 +115,8 @@ TEST(LeagueFile, ATinyLeagueReadsAndBadOnesAreRefusedInOneLineNamingTheKey) {
       // A profile's settings reach every cell: random has no robustness_bias.
       {edited("settings = { budget = 10 }", "settings = { robustness_bias = 0.1 }"), "profile.smoke.settings.robustness_bias"},
       // A row's settings reach every column's method too.
-      {edited("requirement = \"T3\" }", "requirement = \"T3\", batch = 2 }"), "league.rows[0].settings.batch"},
+      {edited("requirement = \"T3\" }", "requirement = \"T3\", robustness_bias = 0.1 }"),
+       "league.rows[0].settings.robustness_bias"},
       {edited("{ label = \"B\"", "{ label = \"A\""), "league.rows[1].label"},
       {edited("row = \"A\"", "row = \"C\""), "league.published[0].cells[0].row"},
       {edited("falsified = 3", "falsified = 6"), "league.published[0].cells[0].falsified"},

@@ -377,6 +377,40 @@ TEST(StlSearch, AnOptimiserGoesOnPastACandidateTheValidatorRefuses) {
   }
 }
 
+// Uniform random in batches (option batch = B) simulates B candidates at once but takes them in
+// the order drawn: the outcome, the counts and the witness are the sequential search's, and a
+// budget that ends inside a batch ends the search there too.
+TEST(StlSearch, UniformRandomInBatchesIsTheSequentialSearch) {
+  const MethodEntry* m = find_method("random");
+  struct Case {
+    std::string suite, requirement, budget;
+  };
+  int falsified = 0, capped = 0;
+  for (const Case& c : {Case{"at", "AT2", "1500"}, Case{"cc", "CC1", "1500"}, Case{"at", "AT6a", "37"}}) {
+    const auto sys = make(c.suite, {{"requirement", c.requirement}});
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      const PlannerOutcome one = m->make(resolve_options(m->options, {{"budget", c.budget}}))
+                                     ->solve({*sys, sys->info().parameters, seed, {60.0, 1000000}});
+      for (const std::string b : {"4", "7"}) {
+        const PlannerOutcome many = m->make(resolve_options(m->options, {{"budget", c.budget}, {"batch", b}}))
+                                        ->solve({*sys, sys->info().parameters, seed, {60.0, 1000000}});
+        const std::string what = c.requirement + " seed " + std::to_string(seed) + " batch " + b;
+        EXPECT_EQ(many.status, one.status) << what;
+        EXPECT_EQ(many.counters.nodes, one.counters.nodes) << what;
+        EXPECT_EQ(many.counters.integration_steps, one.counters.integration_steps) << what;
+        EXPECT_EQ(many.counters.simulated_time, one.counters.simulated_time) << what;
+        EXPECT_EQ(many.metrics.dump(), one.metrics.dump()) << what;
+        ASSERT_EQ(many.trajectory.has_value(), one.trajectory.has_value()) << what;
+        if (one.trajectory) EXPECT_EQ(many.trajectory->final_x, one.trajectory->final_x) << what;
+      }
+      falsified += one.status == TrialStatus::falsified;
+      capped += one.status == TrialStatus::node_cap;
+    }
+  }
+  EXPECT_GT(falsified, 0);
+  EXPECT_GT(capped, 0);  // AT6a within 37 simulations: the budget ends inside a batch
+}
+
 // Batches and robustness guidance give the same trials at any thread count.
 TEST(StlSearch, ResultsDoNotDependOnTheThreadCount) {
   const SuiteEntry* suite = find_suite("thermostat");

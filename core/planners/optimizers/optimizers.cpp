@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -39,6 +40,7 @@
 #include <pagmo/utils/generic.hpp>
 #include <random>
 
+#include "core/parallel_slots.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/simulate.hpp"
 #include "core/rng.hpp"
@@ -54,14 +56,28 @@ struct SearchOver {
   TrialStatus status;
 };
 
+// One simulation's scratch: its simulator (propagator and trace buffers), monitor and signal. The
+// objective has one; a batch of B evaluations has B (one per slot of parallel_slots).
+struct SimulationSlot {
+  SimulationSlot(const System& system, const stl::Requirement& requirement, std::vector<stl::InputPiece> pieces)
+      : simulator(system), monitor(requirement), pieces(std::move(pieces)) {}
+  stl::InputSimulator simulator;
+  stl::TraceMonitor monitor;
+  std::vector<stl::InputPiece> pieces;
+  // The last simulation: its robustness, work, end time, and whether it was cut short.
+  double rho = 0.0;
+  std::int64_t steps = 0;
+  double end_time = 0.0;
+  bool interrupted = false;
+  std::string problem;
+};
+
 // The robustness of the signal a decision vector encodes, counted against the budget.
 class RobustnessObjective {
  public:
   RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon)
-      : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), simulator_(ctx.system),
-        monitor_(requirement_), budget_(ctx),
+      : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), budget_(ctx),
         max_simulations_(std::min(budget, ctx.limits.max_nodes)) {
-    simulator_.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
     const SystemInfo& info = system_.info();
     dt_ = info.step_duration;
     pieces_.resize(static_cast<std::size_t>(std::max(1.0, std::ceil(horizon / dt_ - 1e-9))));
@@ -71,6 +87,7 @@ class RobustnessObjective {
       lo_.insert(lo_.end(), box.lo.begin(), box.lo.end());
       hi_.insert(hi_.end(), box.hi.begin(), box.hi.end());
     }
+    add_slots(1);
   }
   std::size_t dim() const { return lo_.size(); }
   const std::vector<double>& lo() const { return lo_; }
@@ -79,28 +96,22 @@ class RobustnessObjective {
   double operator()(const std::vector<double>& x) {
     if (simulations_ >= max_simulations_) throw SearchOver{TrialStatus::node_cap};
     if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
-    set_pieces(x);
-    const stl::SimulatedTrace& trace = simulator_.run(pieces_, ctx_.parameters);
-    steps_ += trace.integration_steps;
-    if (simulator_.interrupted()) throw SearchOver{TrialStatus::timeout};
-    if (!trace.problem.empty())
-      throw std::invalid_argument("the optimisers drive the system with one input box in every mode: " + trace.problem);
-    ++simulations_;
-    simulated_time_ += trace.time.empty() ? 0.0 : trace.time.back();
-    double rho = monitor_.robustness(trace);
-    if (rho < 0.0) {
-      if (confirmed()) {
-        best_ = rho;
-        best_x_ = x;
-        throw SearchOver{TrialStatus::falsified};
-      }
-      rho = refused_rho_;
-    }
-    if (rho < best_) {
-      best_ = rho;
-      best_x_ = x;
-    }
-    return std::isfinite(rho) ? rho : std::numeric_limits<double>::max();
+    simulate(*slots_.front(), x);
+    return account(*slots_.front(), x);
+  }
+
+  // Evaluates the decision vectors xs as operator() would one after another, the simulations in
+  // parallel (one slot each, on the trial's arena): the first falsification in order ends the
+  // search, and the counts, the best point and the witness are those of the sequence up to it,
+  // so the result does not depend on how many are evaluated at once (barring a deadline).
+  void evaluate_batch(const std::vector<std::vector<double>>& xs) {
+    if (simulations_ >= max_simulations_) throw SearchOver{TrialStatus::node_cap};
+    if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
+    const auto n = static_cast<std::size_t>(std::min<std::int64_t>(static_cast<std::int64_t>(xs.size()),
+                                                                   max_simulations_ - simulations_));
+    add_slots(n);
+    parallel_slots(n, ctx_.cpu, [&](std::size_t i) { simulate(*slots_[i], xs[i]); });
+    for (std::size_t i = 0; i < n; ++i) account(*slots_[i], xs[i]);
   }
 
   // The outcome once the search is over: counters, metrics, the witness's trajectory.
@@ -115,13 +126,57 @@ class RobustnessObjective {
     out.metrics["control_points"] = pieces_.size();
     if (refused_ > 0) out.metrics["refused_candidates"] = refused_;
     if (status == TrialStatus::falsified) {
-      set_pieces(best_x_);
+      set_pieces(best_x_, pieces_);
       out.trajectory = stl::trajectory_of_inputs(system_, pieces_, ctx_.parameters);
     }
     return out;
   }
 
  private:
+  void add_slots(std::size_t n) {
+    while (slots_.size() < n) {
+      slots_.push_back(std::make_unique<SimulationSlot>(system_, requirement_, pieces_));
+      slots_.back()->simulator.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
+    }
+  }
+
+  // The simulation of x in `slot` (touches nothing else: slots run in parallel).
+  void simulate(SimulationSlot& slot, const std::vector<double>& x) const {
+    set_pieces(x, slot.pieces);
+    const stl::SimulatedTrace& trace = slot.simulator.run(slot.pieces, ctx_.parameters);
+    slot.steps = trace.integration_steps;
+    slot.interrupted = slot.simulator.interrupted();
+    slot.problem = trace.problem;
+    slot.end_time = trace.time.empty() ? 0.0 : trace.time.back();
+    slot.rho = slot.interrupted || !trace.problem.empty() ? 0.0 : slot.monitor.robustness(trace);
+  }
+
+  // The simulation of x just run in `slot`, counted: the search's value for x (throws SearchOver
+  // when the search is over).
+  double account(const SimulationSlot& slot, const std::vector<double>& x) {
+    steps_ += slot.steps;
+    if (slot.interrupted) throw SearchOver{TrialStatus::timeout};
+    if (!slot.problem.empty())
+      throw std::invalid_argument("the optimisers drive the system with one input box in every mode: " + slot.problem);
+    ++simulations_;
+    simulated_time_ += slot.end_time;
+    double rho = slot.rho;
+    if (rho < 0.0) {
+      set_pieces(x, pieces_);
+      if (confirmed()) {
+        best_ = rho;
+        best_x_ = x;
+        throw SearchOver{TrialStatus::falsified};
+      }
+      rho = refused_rho_;
+    }
+    if (rho < best_) {
+      best_ = rho;
+      best_x_ = x;
+    }
+    return std::isfinite(rho) ? rho : std::numeric_limits<double>::max();
+  }
+
   // A negative robustness of the search's simulation is a falsification only when the witness
   // validator (an independent, tight re-simulation) confirms it: one within the integration error
   // of 0 may not be (a Nelder-Mead signal at -2e-5 re-simulated to +0.0037 on AT). A refused
@@ -136,19 +191,19 @@ class RobustnessObjective {
     return false;
   }
 
-  void set_pieces(const std::vector<double>& x) {
-    const std::size_t m = pieces_.front().u.size();
-    for (std::size_t k = 0; k < pieces_.size(); ++k)
+  // The signal x encodes, into `pieces` (shaped like pieces_).
+  void set_pieces(const std::vector<double>& x, std::vector<stl::InputPiece>& pieces) const {
+    const std::size_t m = pieces.front().u.size();
+    for (std::size_t k = 0; k < pieces.size(); ++k)
       for (std::size_t j = 0; j < m; ++j)  // clamped: a library may step a hair outside its bounds
-        pieces_[k].u[j] = std::clamp(x[k * m + j], lo_[k * m + j], hi_[k * m + j]);
+        pieces[k].u[j] = std::clamp(x[k * m + j], lo_[k * m + j], hi_[k * m + j]);
   }
 
   const PlannerContext& ctx_;
   const System& system_;
   const stl::Requirement& requirement_;
-  stl::InputSimulator simulator_;
-  stl::TraceMonitor monitor_;
   SearchBudget budget_;
+  std::vector<std::unique_ptr<SimulationSlot>> slots_;
   std::int64_t max_simulations_;
   double dt_ = 1.0;
   std::vector<stl::InputPiece> pieces_;
@@ -172,7 +227,8 @@ void check_signal_system(const System& system, double horizon_option);
 struct OptimizerOptions {
   Optimizer kind;
   std::int64_t budget;
-  double horizon;  // 0: the requirement's
+  double horizon;         // 0: the requirement's
+  std::size_t batch = 1;  // random: simulations evaluated at once
 };
 
 class OptimizationFalsifier final : public Planner {
@@ -186,7 +242,7 @@ class OptimizationFalsifier final : public Planner {
     Rng rng(ctx.seed);
     try {
       switch (o_.kind) {
-        case Optimizer::random: search_random(objective, rng); break;
+        case Optimizer::random: search_random(objective, rng, o_.batch); break;
         case Optimizer::annealing: search_annealing(objective, rng); break;
         case Optimizer::cmaes: search_cmaes(objective, rng); break;
         case Optimizer::nelder_mead: search_nelder_mead(objective, rng); break;
@@ -200,10 +256,17 @@ class OptimizationFalsifier final : public Planner {
  private:
   static unsigned seed_of(Rng& rng) { return static_cast<unsigned>(rng() >> 32); }
 
-  static void search_random(RobustnessObjective& f, Rng& rng) {
+  // Batches of B: the same draws in the same order, B simulated at once (evaluate_batch).
+  static void search_random(RobustnessObjective& f, Rng& rng, std::size_t batch) {
     const pagmo::problem prob{PagmoProblem{&f}};
     std::mt19937 engine(seed_of(rng));
-    while (true) f(pagmo::random_decision_vector(prob, engine));
+    if (batch <= 1)
+      while (true) f(pagmo::random_decision_vector(prob, engine));
+    std::vector<std::vector<double>> xs(batch);
+    while (true) {
+      for (auto& x : xs) x = pagmo::random_decision_vector(prob, engine);
+      f.evaluate_batch(xs);
+    }
   }
 
   // S-TaLiRo's defaults in spirit: a run of the schedule, then again from the best point so far.
@@ -292,13 +355,20 @@ void check_optimizer_system(const System& system, const Json& options) {
 }
 
 MethodEntry optimizer_method(std::string name, std::string description, Optimizer kind) {
-  return {std::move(name),
-          std::move(description),
-          {{"budget", 1500, "simulations per run (ARCH-COMP: 1500)", "[1, 100000000]"},
-           {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"}},
+  std::vector<OptionSpec> options{{"budget", 1500, "simulations per run (ARCH-COMP: 1500)", "[1, 100000000]"},
+                                  {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"}};
+  // Only uniform random draws its candidates independently of their values; pagmo 2.18's CMA-ES
+  // has no batch evaluator (cmaes::set_bfe came in 2.19), annealing and Nelder-Mead are sequential.
+  if (kind == Optimizer::random)
+    options.push_back({"batch", 1,
+                       "B: simulations evaluated at once, in parallel on the run's threads (the same draws in the same "
+                       "order: results and counts as at B = 1, only faster)",
+                       "[1, 4096]"});
+  return {std::move(name), std::move(description), std::move(options),
           [kind](const Json& o) {
             return std::make_unique<OptimizationFalsifier>(
-                OptimizerOptions{kind, o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>()});
+                OptimizerOptions{kind, o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(),
+                                 o.contains("batch") ? o.at("batch").get<std::size_t>() : 1});
           },
           check_optimizer_system};
 }
