@@ -36,10 +36,6 @@
 //    names them, with units), read by STL requirements (core/requirements/requirement.hpp). A
 //    discrete output (a gear) is a function of q. Every system also has its inputs and `safety`
 //    (= spec) as signals.
-//  - Optional: `static constexpr int fixed_dim`, the state dimension when the type fixes it
-//    (dim() must return it). The integrator then keeps its states in std::array, which odeint
-//    steps with unrolled loops (CC's 11 states: 1.5x faster per step than std::vector); the
-//    arithmetic is the same, element by element, so the results are the same bits.
 #pragma once
 #include <algorithm>
 #include <chrono>

@@ -6,14 +6,12 @@
 // are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).
 #pragma once
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include <boost/math/tools/toms748_solve.hpp>
@@ -25,26 +23,9 @@ namespace hyfal {
 
 namespace odeint = boost::numeric::odeint;
 
-// M::fixed_dim (model.hpp), or 0 when M's dimension is known only at run time.
-template <class M>
-constexpr int fixed_state_dim() {
-  if constexpr (requires { { M::fixed_dim } -> std::convertible_to<int>; })
-    return M::fixed_dim;
-  else
-    return 0;
-}
-
 template <HybridModel M>
 class ModelPropagator final : public Propagator {
-  static constexpr int kFixedDim = fixed_state_dim<M>();
-  using State = std::conditional_t<(kFixedDim > 0), std::array<double, static_cast<std::size_t>(kFixedDim)>,
-                                   std::vector<double>>;
-  static State make_state(std::size_t dim) {
-    if constexpr (kFixedDim > 0)
-      return State{};
-    else
-      return State(dim);
-  }
+  using State = std::vector<double>;
 
   // The right-hand side odeint integrates: M's flow in a fixed mode under constant input.
   struct FlowField {
@@ -72,9 +53,7 @@ class ModelPropagator final : public Propagator {
         dense_(odeint::make_dense_output(settings.abs_tol, settings.rel_tol, settings.max_step,
                                          Dopri5())),
         dim_(static_cast<std::size_t>(model.dim())),
-        x0_(make_state(dim_)), x1_(make_state(dim_)), xt_(make_state(dim_)) {
-    if (kFixedDim > 0 && model.dim() != kFixedDim)
-      throw std::logic_error("ModelPropagator: the model's dim() differs from its fixed_dim");
+        x0_(dim_), x1_(dim_), xt_(dim_) {
     g0_.reserve(64);
     g1_.reserve(64);
     if constexpr (kGuardPeaks) {

@@ -205,8 +205,7 @@ class Transmission {
   static double up_threshold(double throttle, int g) { return lookup(kUpBp, &kUp[0][g - 1], 4, throttle); }
   static double down_threshold(double throttle, int g) { return lookup(kDownBp, &kDown[0][g - 1], 4, throttle); }
 
-  static constexpr int fixed_dim = 4;
-  int dim() const { return fixed_dim; }
+  int dim() const { return 4; }
   bool valid_mode(Mode q) const { return q < 12; }
   void flow(Mode q, const double* x, const double* u, const double*, double* dx) const {
     const int g = gear(q);

@@ -84,7 +84,6 @@ class ChasingCars {
       : horizon_(horizon), keeping_sign_(keeping_backward ? 1.0 : -1.0),
         u_(InputSet::grid({{0.0, 0.0}, {1.0, 1.0}}, levels)) {}
 
-  static constexpr int fixed_dim = kDim;
   int dim() const { return kDim; }
   bool valid_mode(Mode q) const {
     if (q >> (2 * (kCars - 1))) return false;

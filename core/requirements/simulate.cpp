@@ -70,7 +70,7 @@ struct InputSimulator::Impl {
   const System& system;
   std::unique_ptr<Propagator> prop;
   SimulatedTrace trace;
-  std::vector<double> x, next;
+  std::vector<double> x, next, no_input;
 };
 
 InputSimulator::InputSimulator(const System& system) : impl_(std::make_unique<Impl>(system)) {}
@@ -103,8 +103,8 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   std::vector<double>& next = impl_->next;
   x = info.initial_state;
   next.resize(x.size());
-  const std::vector<double> no_input(info.input_names.size(), 0.0);
-  sink.begin(0.0, pieces.empty() ? std::span<const double>(no_input) : std::span<const double>(pieces[0].u));
+  impl_->no_input.assign(info.input_names.size(), 0.0);
+  sink.begin(0.0, pieces.empty() ? std::span<const double>(impl_->no_input) : std::span<const double>(pieces[0].u));
   sink.sample(0.0, q, x, std::nan(""));  // the first sample, with the first piece's input
   double t = 0.0;
   for (const InputPiece& piece : pieces) {
