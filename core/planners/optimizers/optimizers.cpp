@@ -125,10 +125,7 @@ class RobustnessObjective {
     out.metrics["robustness"] = best_;
     out.metrics["control_points"] = pieces_.size();
     if (refused_ > 0) out.metrics["refused_candidates"] = refused_;
-    if (status == TrialStatus::falsified) {
-      set_pieces(best_x_, pieces_);
-      out.trajectory = stl::trajectory_of_inputs(system_, pieces_, ctx_.parameters);
-    }
+    if (status == TrialStatus::falsified) out.trajectory = std::move(confirmed_);  // the signal confirmed() replayed
     return out;
   }
 
@@ -165,15 +162,11 @@ class RobustnessObjective {
       set_pieces(x, pieces_);
       if (confirmed()) {
         best_ = rho;
-        best_x_ = x;
         throw SearchOver{TrialStatus::falsified};
       }
       rho = refused_rho_;
     }
-    if (rho < best_) {
-      best_ = rho;
-      best_x_ = x;
-    }
+    best_ = std::min(best_, rho);
     return std::isfinite(rho) ? rho : std::numeric_limits<double>::max();
   }
 
@@ -183,9 +176,12 @@ class RobustnessObjective {
   // signal is no falsification: the search goes on with the validator's robustness for it
   // (refused_rho_, at least 0), and the refusal is counted (metric refused_candidates).
   bool confirmed() {
-    const Trajectory t = stl::trajectory_of_inputs(system_, pieces_, ctx_.parameters);
+    Trajectory t = stl::trajectory_of_inputs(system_, pieces_, ctx_.parameters);
     const ValidationReport v = validate_witness(system_, make_witness(system_, "", 0, t));
-    if (v.valid) return true;
+    if (v.valid) {
+      confirmed_ = std::move(t);
+      return true;
+    }
     ++refused_;
     refused_rho_ = v.robustness ? std::max(*v.robustness, 0.0) : 0.0;
     return false;
@@ -210,9 +206,9 @@ class RobustnessObjective {
   std::vector<double> lo_, hi_;
   std::int64_t simulations_ = 0, steps_ = 0, refused_ = 0;
   double refused_rho_ = 0.0;
+  std::optional<Trajectory> confirmed_;  // the falsifying signal's trajectory, once confirmed
   double simulated_time_ = 0.0;
   double best_ = std::numeric_limits<double>::infinity();
-  std::vector<double> best_x_;
 };
 
 // pagmo's view of the objective (a user-defined problem; pagmo copies it, hence the pointer).
