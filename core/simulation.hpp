@@ -1,11 +1,13 @@
-// Simulation of one hybrid model: Boost.Odeint integration (fixed-step RK4 or adaptive
-// Dormand-Prince 5 with dense output), event detection by sign change of a guard within a step
-// and localization with Boost.Math toms748 (seed 002 Alg. 3).
+// Simulation of one hybrid model: fixed-step RK4 (core/rk4.hpp: odeint's runge_kutta4, step for
+// step and bit for bit) or Boost.Odeint's adaptive Dormand-Prince 5 with dense output, event
+// detection by sign change of a guard within a step and localization with Boost.Math toms748
+// (seed 002 Alg. 3).
 //
 // The model is a template parameter, so every RK stage calls M::flow directly. All buffers
 // are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -18,6 +20,7 @@
 #include <boost/numeric/odeint.hpp>
 
 #include "core/model.hpp"
+#include "core/rk4.hpp"
 
 namespace hyfal {
 
@@ -36,8 +39,8 @@ class ModelPropagator final : public Propagator {
     void operator()(const State& x, State& dx, double) const {
       model->flow(q, x.data(), u, p, dx.data());
     }
+    void operator()(const double* x, double* dx) const { model->flow(q, x, u, p, dx); }
   };
-  using Rk4 = odeint::runge_kutta4<State>;
   // flow()'s bound on the adaptive stepper's steps per call: the validator's sub-intervals are
   // at most the suite's integration step long, where a smooth flow takes a few dozen.
   static constexpr std::int64_t kMaxAdaptiveSteps = 1'000'000;
@@ -53,7 +56,8 @@ class ModelPropagator final : public Propagator {
         dense_(odeint::make_dense_output(settings.abs_tol, settings.rel_tol, settings.max_step,
                                          Dopri5())),
         dim_(static_cast<std::size_t>(model.dim())),
-        x0_(dim_), x1_(dim_), xt_(dim_) {
+        rk4_(dim_), x0_(dim_), x1_(dim_), xt_(dim_) {
+    for (LocatedState& s : located_) s.x.resize(dim_);
     g0_.reserve(64);
     g1_.reserve(64);
     if constexpr (kGuardPeaks) {
@@ -72,6 +76,7 @@ class ModelPropagator final : public Propagator {
       return r;
     }
     std::copy(x.begin(), x.end(), x0_.begin());
+    ++step_;
     const double* pp = p.data();
     // Already unsafe, or an urgent transition already enabled: zero-time outcome. (STL mode,
     // sink_ set: the unsafe set does not stop the flow; only s is sampled, see set_trace.)
@@ -163,6 +168,7 @@ class ModelPropagator final : public Propagator {
         return r;
       }
       std::swap(x0_, x1_);
+      ++step_;
       std::swap(g0_, g1_);
       if constexpr (kGuardPeaks) std::swap(h0_, h1_);
       s0 = s1;
@@ -181,6 +187,7 @@ class ModelPropagator final : public Propagator {
   std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u,
                     std::span<const double> p, double duration, std::span<double> out) override {
     std::copy(x.begin(), x.end(), x0_.begin());
+    ++step_;  // no localization here, but x0_ is no longer the step the located states came from
     const FlowField field{&model_, q, u.data(), p.data()};
     const double t_eps = 1e-12 * std::max(1.0, std::abs(duration));
     std::int64_t steps = 0;
@@ -188,7 +195,7 @@ class ModelPropagator final : public Propagator {
       double t = 0.0;
       while (duration - t > t_eps) {
         const double h = std::min(settings_.step, duration - t);
-        rk4_.do_step(field, x0_, t, x1_, h);
+        rk4_(field, x0_.data(), x1_.data(), h);
         std::swap(x0_, x1_);
         t += h;
         ++steps;
@@ -242,14 +249,21 @@ class ModelPropagator final : public Propagator {
   }
 
   // State at time tau in the current step [t, t1]: RK4 re-steps from x0_ (a genuine RK4
-  // step of length tau - t); dopri5 uses the dense output.
+  // step of length tau - t); dopri5 uses the dense output. A state a localization already
+  // computed in this step is copied (see located_).
   void state_at(const FlowField& field, double t, double tau, State& xs) {
+    for (const LocatedState& s : located_) {
+      if (s.step == step_ && s.tau == tau) {
+        std::copy(s.x.begin(), s.x.end(), xs.begin());
+        return;
+      }
+    }
     if (settings_.kind == IntegratorKind::rk4) {
       if (tau <= t) {
         std::copy(x0_.begin(), x0_.end(), xs.begin());
         return;
       }
-      rk4_.do_step(field, x0_, t, xs, tau - t);
+      rk4_(field, x0_.data(), xs.data(), tau - t);
     } else {
       dense_.calc_state(tau, xs);
     }
@@ -262,8 +276,11 @@ class ModelPropagator final : public Propagator {
   template <class Phi>
   std::pair<double, double> locate(const FlowField& field, double t, double t1, Phi phi, double phi0, double phi1) {
     auto f = [&](double tau) {
-      state_at(field, t, tau, xt_);
-      return phi(xt_);
+      LocatedState& s = located_[next_located_++ % located_.size()];
+      state_at(field, t, tau, s.x);
+      s.step = step_;
+      s.tau = tau;
+      return phi(s.x);
     };
     // A state exactly on the boundary at t is not yet inside: treat phi(t) as just below 0.
     if (phi0 >= 0.0) phi0 = -std::numeric_limits<double>::min();
@@ -328,7 +345,7 @@ class ModelPropagator final : public Propagator {
   double step_to(const FlowField& field, double t, double end_t) {
     if (settings_.kind == IntegratorKind::rk4) {
       const double h = std::min(settings_.step, end_t - t);
-      rk4_.do_step(field, x0_, t, x1_, h);
+      rk4_(field, x0_.data(), x1_.data(), h);
       return t + h;
     }
     const auto [ta, tb] = dense_.do_step(field);
@@ -399,6 +416,7 @@ class ModelPropagator final : public Propagator {
       }
       sink_->sample(t1, q, x1_, watch_unsafe ? s1 : kUnknownSafety);
       std::swap(x0_, x1_);
+      ++step_;
       std::swap(g0_, g1_);
       if constexpr (kGuardPeaks) std::swap(h0_, h1_);
       if (watch_unsafe) s0 = s1;
@@ -411,14 +429,28 @@ class ModelPropagator final : public Propagator {
     return r;
   }
 
+  // The states the localizations of the current step computed, by time (a ring): the event's
+  // state is one of its bracket's ends, which toms748 has evaluated, so it is copied rather than
+  // integrated again (one RK4 step per event: 2,000 events in a chasing-cars simulation). A
+  // state at tau depends only on the step (x0_ and t; the dense output's step), so an entry is
+  // valid while step_, bumped whenever the step changes, is the one it was computed in.
+  struct LocatedState {
+    std::uint64_t step = 0;
+    double tau = 0.0;
+    State x;
+  };
+
   const M& model_;
   IntegratorSettings settings_;
-  Rk4 rk4_;
   Dense dense_;
   std::size_t dim_;
+  Rk4Step rk4_;
   State x0_, x1_, xt_;
   std::vector<double> g0_, g1_;
   std::vector<double> h0_, h1_;  // guard_peak values at the step's ends (kGuardPeaks only)
+  std::array<LocatedState, 8> located_;  // 8: the last localization's evaluations and the one before
+  std::size_t next_located_ = 0;
+  std::uint64_t step_ = 1;  // entries start at step 0: none valid
 };
 
 }  // namespace hyfal
