@@ -220,7 +220,7 @@ TEST(Robustness, BothSidesOfAJumpAreInTheTrace) {
   OfflineMonitor m(parse_requirement("always[0,0] a > 5", std::vector<std::string>{"a", "b"}));
   std::vector<double> values = a;
   values.insert(values.end(), a.begin(), a.end());
-  m.robustness({t, values});
+  m.robustness_at_every_sample({t, values});
   const auto s = m.node_signal(m.formula().root());
   EXPECT_DOUBLE_EQ(s[1], -5.0);  // [1, 1] holds both sides of the jump
   EXPECT_DOUBLE_EQ(s[2], 5.0);
@@ -363,7 +363,8 @@ TEST(Robustness, AgreesWithTheBruteForceDefinitionsOnRandomFormulasAndTraces) {
     }
     for (double& v : values) v = static_cast<double>(static_cast<int>(rng() % 13) - 6) * 0.5;
     OfflineMonitor m(f);
-    const double r0 = m.robustness({t, values});
+    const double r0 = m.robustness({t, values});  // only the samples ρ(φ, 0) reads
+    ASSERT_EQ(m.robustness_at_every_sample({t, values}), r0) << to_string(f);
     const BruteForce brute{f, t, values, n};
     for (int node = 0; node < static_cast<int>(f.nodes.size()); ++node) {
       const std::vector<double> want = brute.eval(node);

@@ -40,11 +40,16 @@ void sliding(const double* x, std::size_t n, const std::size_t* lo, const std::s
 
 void temporal_windows(std::span<const double> time, double a, double b, std::vector<std::size_t>& start,
                       std::vector<std::size_t>& end) {
+  temporal_windows(time, a, b, start, end, time.size());
+}
+
+void temporal_windows(std::span<const double> time, double a, double b, std::vector<std::size_t>& start,
+                      std::vector<std::size_t>& end, std::size_t count) {
   const std::size_t n = time.size();
   start.resize(n);
   end.resize(n);
   std::size_t first_at = 0, last = 0;  // first sample at or after t_i + a; last at or before t_i + b
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
     const double from = time[i] + a, to = time[i] + b;
     first_at = std::max(first_at, i);
     while (first_at < n && time[first_at] < from) ++first_at;
@@ -82,14 +87,50 @@ double OfflineMonitor::robustness(const TraceView& trace) {
   prepare(check(trace));
   exact_ = true;
   time_ = trace.time;
-  evaluate_expressions(trace);
-  for (int k = 0; k < static_cast<int>(formula_.nodes.size()); ++k) evaluate(k);
+  plan_samples();
+  std::size_t atoms = 0;
+  for (std::size_t k = 0; k < formula_.nodes.size(); ++k)
+    if (formula_.nodes[k].op == Operator::compare) atoms = std::max(atoms, needed_[k]);
+  evaluate_expressions(trace, atoms);
+  for (int k = 0; k < static_cast<int>(formula_.nodes.size()); ++k) evaluate(k, needed_[k]);
   return row(formula_.root())[0];
 }
 
+double OfflineMonitor::robustness_at_every_sample(const TraceView& trace) {
+  prepare(check(trace));
+  exact_ = true;
+  time_ = trace.time;
+  evaluate_expressions(trace, n_);
+  for (int k = 0; k < static_cast<int>(formula_.nodes.size()); ++k) evaluate(k, n_);
+  return row(formula_.root())[0];
+}
+
+// ρ(φ, 0) reads the root at sample 0 only; a boolean operator reads its operands at the samples
+// it is read at; always and eventually read them through the windows of those samples, which end
+// at e(m − 1), the last sample at or before t_{m−1} + b (temporal_windows: e is non-decreasing,
+// and s(i) <= e(i)); until reads them everywhere (its untimed part runs back from the trace's
+// end). Parents come after their operands in the formula, so one backward pass suffices.
+void OfflineMonitor::plan_samples() {
+  needed_.assign(formula_.nodes.size(), 0);
+  needed_[formula_.root()] = 1;
+  for (int k = formula_.root(); k >= 0; --k) {
+    const FormulaNode& node = formula_.nodes[k];
+    const std::size_t m = needed_[k];
+    std::size_t operands = m;
+    if (node.op == Operator::until) {
+      operands = n_;
+    } else if (is_temporal(node.op)) {
+      const double to = time_[m - 1] + node.hi;
+      operands = static_cast<std::size_t>(std::upper_bound(time_.begin(), time_.end(), to) - time_.begin());
+    }
+    if (node.left >= 0) needed_[node.left] = std::max(needed_[node.left], operands);
+    if (node.right >= 0) needed_[node.right] = std::max(needed_[node.right], operands);
+  }
+}
+
 Interval OfflineMonitor::robustness_interval(const TraceView& trace, bool final_trace) {
-  if (final_trace) {
-    const double r = robustness(trace);
+  if (final_trace) {  // every node's row, as for a prefix (the prefix monitor reads them)
+    const double r = robustness_at_every_sample(trace);
     return {r, r};
   }
   const std::size_t known = check(trace);
@@ -99,7 +140,7 @@ Interval OfflineMonitor::robustness_interval(const TraceView& trace, bool final_
   sentinel_time_.push_back(trace.time.back());
   time_ = sentinel_time_;
   upper_.resize(nodes_.size());
-  evaluate_expressions(trace);
+  evaluate_expressions(trace, trace.samples());
   for (int k = 0; k < static_cast<int>(formula_.nodes.size()); ++k) evaluate_interval(k, known);
   return {row(formula_.root())[0], upper_row(formula_.root())[0]};
 }
@@ -117,8 +158,9 @@ std::span<const double> OfflineMonitor::node_upper(int node) const {
 
 // The rows have n_ entries; the trace's samples fill the first trace.samples() of them (a
 // prefix's sentinel, the last, has no values: its atoms are set to ±inf directly).
-void OfflineMonitor::evaluate_expressions(const TraceView& trace) {
-  const std::size_t n = trace.samples();
+void OfflineMonitor::evaluate_expressions(const TraceView& trace, std::size_t count) {
+  const std::size_t n = std::min(count, trace.samples());
+  const std::size_t stride = trace.samples();
   for (std::size_t e = 0; e < formula_.expressions.size(); ++e) {
     const ExpressionNode& x = formula_.expressions[e];
     double* out = expressions_.data() + e * n_;
@@ -127,7 +169,7 @@ void OfflineMonitor::evaluate_expressions(const TraceView& trace) {
     switch (x.kind) {
       case ExpressionNode::Kind::constant: std::fill(out, out + n, x.value); break;
       case ExpressionNode::Kind::signal: {
-        const double* s = trace.values.data() + static_cast<std::size_t>(x.signal) * n;
+        const double* s = trace.values.data() + static_cast<std::size_t>(x.signal) * stride;
         std::copy(s, s + n, out);
         break;
       }
@@ -153,11 +195,11 @@ void OfflineMonitor::compare(const FormulaNode& node, double* out, std::size_t n
   }
 }
 
-void OfflineMonitor::evaluate(int k) {
+void OfflineMonitor::evaluate(int k, std::size_t count) {
   const FormulaNode& node = formula_.nodes[k];
-  if (node.op == Operator::compare) return compare(node, row(k), n_);
-  if (is_temporal(node.op)) windows(node);
-  apply(node, node.left >= 0 ? row(node.left) : nullptr, node.right >= 0 ? row(node.right) : nullptr, row(k));
+  if (node.op == Operator::compare) return compare(node, row(k), count);
+  if (is_temporal(node.op)) windows(node, count);
+  apply(node, node.left >= 0 ? row(node.left) : nullptr, node.right >= 0 ? row(node.right) : nullptr, row(k), count);
 }
 
 // The lower row from the operands' lower rows and the upper from their upper rows, except where
@@ -177,19 +219,20 @@ void OfflineMonitor::evaluate_interval(int k, std::size_t known) {
   const double* lu = node.left >= 0 ? upper_row(node.left) : nullptr;
   const double* rl = node.right >= 0 ? row(node.right) : nullptr;
   const double* ru = node.right >= 0 ? upper_row(node.right) : nullptr;
-  if (is_temporal(node.op)) windows(node);
+  if (is_temporal(node.op)) windows(node, n_);
   const bool crosses = node.op == Operator::negation || node.op == Operator::implication;
-  apply(node, crosses ? lu : ll, rl, lower);
-  apply(node, crosses ? ll : lu, ru, upper);
+  apply(node, crosses ? lu : ll, rl, lower, n_);
+  apply(node, crosses ? ll : lu, ru, upper, n_);
 }
 
-void OfflineMonitor::windows(const FormulaNode& node) {
-  temporal_windows(time_, node.lo, node.hi, start_, end_);
-  for (std::size_t& e : end_) ++e;  // half-open [s, e + 1)
+void OfflineMonitor::windows(const FormulaNode& node, std::size_t count) {
+  temporal_windows(time_, node.lo, node.hi, start_, end_, count);
+  for (std::size_t i = 0; i < count; ++i) ++end_[i];  // half-open [s, e + 1)
 }
 
-void OfflineMonitor::apply(const FormulaNode& node, const double* l, const double* r, double* out) {
-  const std::size_t n = n_;
+// Over the first `count` samples: an until's operands are read over all n_ (plan_samples).
+void OfflineMonitor::apply(const FormulaNode& node, const double* l, const double* r, double* out, std::size_t count) {
+  const std::size_t n = count;
   switch (node.op) {
     case Operator::compare: return;  // compare() writes atoms
     case Operator::negation: for (std::size_t i = 0; i < n; ++i) out[i] = -l[i]; return;
@@ -209,9 +252,9 @@ void OfflineMonitor::apply(const FormulaNode& node, const double* l, const doubl
   // as every term of O is at most min φ over [s, j] ⊇ [s, j*]. The tests check it against the
   // literal double loop.
   double* untimed = scratch_.data();
-  double* psi_max = scratch_.data() + n;
-  untimed[n - 1] = std::min(l[n - 1], r[n - 1]);
-  for (std::size_t j = n - 1; j-- > 0;) untimed[j] = std::min(l[j], std::max(r[j], untimed[j + 1]));
+  double* psi_max = scratch_.data() + n_;
+  untimed[n_ - 1] = std::min(l[n_ - 1], r[n_ - 1]);
+  for (std::size_t j = n_ - 1; j-- > 0;) untimed[j] = std::min(l[j], std::max(r[j], untimed[j + 1]));
   sliding<false>(r, n, start_.data(), end_.data(), -kInf, deque_.data(), psi_max);
   for (std::size_t i = 0; i < n; ++i) out[i] = std::min(untimed[start_[i]], psi_max[i]);
   // φ before the window: [i, s(i)).

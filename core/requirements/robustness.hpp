@@ -76,29 +76,37 @@ class OfflineMonitor {
 
   const Formula& formula() const { return formula_; }
   // ρ(φ, 0). The trace must have at least one sample and formula().signals.size() signals;
-  // throws std::invalid_argument otherwise.
+  // throws std::invalid_argument otherwise. Each node is evaluated only at the samples ρ(φ, 0)
+  // reads (a leading run of them: AT6abc's `always[0,4] y1 < 35` at the samples of its first 4 s).
   double robustness(const TraceView& trace);
+  // The same ρ(φ, 0), with every node evaluated at every sample (for node_signal()).
+  double robustness_at_every_sample(const TraceView& trace);
   // The interval of ρ(φ, 0) over every extension of `trace` (see above); final_trace: the trace is
-  // complete, and the result is {r, r} with r = robustness(trace). Same preconditions.
+  // complete, and the result is {r, r} with r = robustness(trace), every node evaluated at every
+  // sample. Same preconditions.
   Interval robustness_interval(const TraceView& trace, bool final_trace);
-  // After robustness(): ρ of node `node` (a FormulaNode index) at every sample.
+  // After robustness_at_every_sample(): ρ of node `node` (a FormulaNode index) at every sample.
   std::span<const double> node_signal(int node) const;
   // After robustness_interval() of a prefix: node `node`'s lower and upper rows, n + 1 values (the
-  // sentinel's last). After robustness() or a final trace's interval: node_signal(node), both.
+  // sentinel's last). After robustness_at_every_sample() or a final trace's interval: node_signal(node), both.
   std::span<const double> node_lower(int node) const;
   std::span<const double> node_upper(int node) const;
 
  private:
   std::size_t check(const TraceView& trace) const;
   void prepare(std::size_t rows);
-  void evaluate_expressions(const TraceView& trace);
-  void evaluate(int node);
+  // needed_: for each node, how many leading samples ρ(φ, 0) reads of it.
+  void plan_samples();
+  // The expression rows over the first `count` samples.
+  void evaluate_expressions(const TraceView& trace, std::size_t count);
+  void evaluate(int node, std::size_t count);
   void evaluate_interval(int node, std::size_t known);
   void compare(const FormulaNode& node, double* out, std::size_t count) const;
-  // out = the operator `node.op` applied to the rows l, r over the n_ samples (temporal operators:
-  // over the windows in start_, end_, which windows() computed).
-  void apply(const FormulaNode& node, const double* l, const double* r, double* out);
-  void windows(const FormulaNode& node);
+  // out = the operator `node.op` applied to the rows l, r over the first `count` samples
+  // (temporal operators: over the windows in start_, end_, which windows() computed).
+  void apply(const FormulaNode& node, const double* l, const double* r, double* out, std::size_t count);
+  // The windows of the first `count` samples into start_ and end_ (half-open).
+  void windows(const FormulaNode& node, std::size_t count);
   double* row(int node) { return nodes_.data() + static_cast<std::size_t>(node) * n_; }
   double* upper_row(int node) { return upper_.data() + static_cast<std::size_t>(node) * n_; }
   const double* expression_row(int e) const { return expressions_.data() + static_cast<std::size_t>(e) * n_; }
@@ -115,11 +123,15 @@ class OfflineMonitor {
   std::vector<std::size_t> deque_;      // the monotone deque's indices (a ring never longer than n)
   std::vector<std::size_t> start_, end_;  // each window's first sample and one past its last
   std::vector<std::size_t> index_;      // until: 0, 1, ..., n − 1 (the lower ends of [i, s(i)))
+  std::vector<std::size_t> needed_;     // robustness(): the samples each node is evaluated at
 };
 
 // The window [s(i), e(i)] of every sample for the interval [a, b] (see above): O(n) with two
 // moving pointers. Exposed for the tests' brute-force reference.
 void temporal_windows(std::span<const double> time, double a, double b, std::vector<std::size_t>& start,
                       std::vector<std::size_t>& end);
+// The same windows for the first `count` samples only (start and end still have n entries).
+void temporal_windows(std::span<const double> time, double a, double b, std::vector<std::size_t>& start,
+                      std::vector<std::size_t>& end, std::size_t count);
 
 }  // namespace hyfal::stl
