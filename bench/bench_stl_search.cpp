@@ -82,25 +82,34 @@ BENCHMARK(BM_ExtendAircraftA3)->Arg(5)->Arg(30)->MinTime(0.3);
 // One ARCH-COMP simulation as an optimiser runs it (core/planners/optimizers/): the chasing cars
 // for 100 s under 20 pieces of 5 s (random control points, fixed seed), sampled at every RK4 step
 // and transition, then the requirement's offline robustness. Issue 29: <= 0.5 ms on one core.
-void BM_SimulateCc(benchmark::State& state, const char* requirement, const char* integration_step) {
-  const auto system = suite_instance("cc", {{"requirement", requirement}, {"integration_step", integration_step}});
+// `keeping`: the printed Keeping sign (the default; its followers switch ~20 times a second, each
+// switch located to 1e-12 s: the counter `switches`) or the corrected one.
+void BM_SimulateCc(benchmark::State& state, const char* requirement, const char* integration_step,
+                   const char* keeping) {
+  const auto system = suite_instance(
+      "cc", {{"requirement", requirement}, {"integration_step", integration_step}, {"keeping", keeping}});
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<stl::InputPiece> pieces(20);
   for (auto& p : pieces) p = {5.0, {unit(rng), unit(rng)}};
   stl::InputSimulator simulator(*system);  // as an optimiser keeps them
   stl::TraceMonitor monitor(*system->info().requirement);
-  std::size_t samples = 0;
+  std::size_t samples = 0, switches = 0;
   for (auto _ : state) {
     const stl::SimulatedTrace& trace = simulator.run(pieces, system->info().parameters);
     benchmark::DoNotOptimize(monitor.robustness(trace));
     samples = trace.samples();
   }
+  // A switch is sampled on both sides at one time; every other sample is a step's end.
+  const stl::SimulatedTrace& trace = simulator.run(pieces, system->info().parameters);
+  for (std::size_t i = 1; i < trace.samples(); ++i) switches += trace.time[i] == trace.time[i - 1];
   state.counters["samples"] = static_cast<double>(samples);
+  state.counters["switches"] = static_cast<double>(switches);
 }
-BENCHMARK_CAPTURE(BM_SimulateCc, CC1, "CC1", "0.05")->MinTime(0.3);
-BENCHMARK_CAPTURE(BM_SimulateCc, CC4, "CC4", "0.05")->MinTime(0.3);
-BENCHMARK_CAPTURE(BM_SimulateCc, CC1_step_0_1, "CC1", "0.1")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1, "CC1", "0.05", "printed")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC4, "CC4", "0.05", "printed")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1_step_0_1, "CC1", "0.1", "printed")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1_corrected, "CC1", "0.05", "corrected")->MinTime(0.3);
 
 }  // namespace
 }  // namespace hyfal::bench

@@ -34,8 +34,8 @@
 //  - Integration: RK4, fixed step `integration_step` = 0.05 s: positions and velocities are
 //    polynomials of degree <= 2 in Chasing and Keeping (RK4 is exact there) and exponentials in
 //    Braking; STL samples are the step ends plus both sides of every shift. CC1's robustness under
-//    full throttle is -251.228 at 0.01, 0.05 and 0.1 s alike; a simulation of 100 s takes 1.5 ms at
-//    0.05 s and 2.2 ms at 0.1 s (wider steps make each of the ~1,600 shift localizations longer;
+//    full throttle is -251.228 at 0.01, 0.05 and 0.1 s alike; a simulation of 100 s takes 1.15 ms at
+//    0.05 s and 1.8 ms at 0.1 s (wider steps make each of the ~2,060 shift localizations longer;
 //    BM_SimulateCc).
 //  - δt (one tree extension, one input piece) = `step`, default 5 s. `input_instance` is ARCH-COMP's:
 //    1 (piecewise continuous inputs: any step) or 2 (piecewise constant, discontinuities at least
