@@ -116,6 +116,7 @@ void OfflineMonitor::plan_samples() {
   for (int k = formula_.root(); k >= 0; --k) {
     const FormulaNode& node = formula_.nodes[k];
     const std::size_t m = needed_[k];
+    if (m == 0) continue;  // not read by the root (a parser never makes such a node)
     std::size_t operands = m;
     if (node.op == Operator::until) {
       operands = n_;
