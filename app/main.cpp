@@ -231,7 +231,7 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
   for (const auto& s : sets_text) sets.push_back(split_setting(s));
   Json instance;
   try {
-    instance = canonical_instance(resolve_options(suite->parameters, sets));
+    instance = canonical_instance(suite->parameters, resolve_options(suite->parameters, sets));
     if (suite->export_instance) {
       std::cout << suite->export_instance(instance).dump() << '\n';
       return 0;

@@ -123,7 +123,7 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
   }
   TrialGroup g;
   g.spec = spec;
-  g.instance = canonical_instance(resolve_options(suite->parameters, instance_sets));
+  g.instance = canonical_instance(suite->parameters, resolve_options(suite->parameters, instance_sets));
   g.options = resolve_options(method->options, method_sets);
   try {
     g.system = suite->make(g.instance);

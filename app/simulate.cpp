@@ -57,7 +57,7 @@ std::shared_ptr<const System> make_system(const std::string& suite_name, const s
     sets.emplace_back(s.substr(0, eq), s.substr(eq + 1));
   }
   try {
-    return suite->make(canonical_instance(resolve_options(suite->parameters, sets)));
+    return suite->make(canonical_instance(suite->parameters, resolve_options(suite->parameters, sets)));
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }

@@ -83,11 +83,14 @@ BENCHMARK(BM_ExtendAircraftA3)->Arg(5)->Arg(30)->MinTime(0.3);
 // for 100 s under 20 pieces of 5 s (random control points, fixed seed), sampled at every RK4 step
 // and transition, then the requirement's offline robustness. Issue 29: <= 0.5 ms on one core.
 // `keeping`: the printed Keeping sign (the default; its followers switch ~20 times a second, each
-// switch located to 1e-12 s: the counter `switches`) or the corrected one.
+// switch located to 1e-12 s: the counter `switches`) or the corrected one. `interpolation`: the
+// switches located on RK4 re-steps (the default) or on the step's Hermite interpolant.
 void BM_SimulateCc(benchmark::State& state, const char* requirement, const char* integration_step,
-                   const char* keeping) {
-  const auto system = suite_instance(
-      "cc", {{"requirement", requirement}, {"integration_step", integration_step}, {"keeping", keeping}});
+                   const char* keeping, const char* interpolation) {
+  const auto system = suite_instance("cc", {{"requirement", requirement},
+                                            {"integration_step", integration_step},
+                                            {"keeping", keeping},
+                                            {"interpolation", interpolation}});
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<stl::InputPiece> pieces(20);
@@ -100,16 +103,16 @@ void BM_SimulateCc(benchmark::State& state, const char* requirement, const char*
     benchmark::DoNotOptimize(monitor.robustness(trace));
     samples = trace.samples();
   }
-  // A switch is sampled on both sides at one time; every other sample is a step's end.
-  const stl::SimulatedTrace& trace = simulator.run(pieces, system->info().parameters);
-  for (std::size_t i = 1; i < trace.samples(); ++i) switches += trace.time[i] == trace.time[i - 1];
+  switches = static_cast<std::size_t>(simulator.run(pieces, system->info().parameters).transitions);
   state.counters["samples"] = static_cast<double>(samples);
   state.counters["switches"] = static_cast<double>(switches);
 }
-BENCHMARK_CAPTURE(BM_SimulateCc, CC1, "CC1", "0.05", "printed")->MinTime(0.3);
-BENCHMARK_CAPTURE(BM_SimulateCc, CC4, "CC4", "0.05", "printed")->MinTime(0.3);
-BENCHMARK_CAPTURE(BM_SimulateCc, CC1_step_0_1, "CC1", "0.1", "printed")->MinTime(0.3);
-BENCHMARK_CAPTURE(BM_SimulateCc, CC1_corrected, "CC1", "0.05", "corrected")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1, "CC1", "0.05", "printed", "restep")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC4, "CC4", "0.05", "printed", "restep")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1_step_0_1, "CC1", "0.1", "printed", "restep")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1_corrected, "CC1", "0.05", "corrected", "restep")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC1_hermite, "CC1", "0.05", "printed", "hermite")->MinTime(0.3);
+BENCHMARK_CAPTURE(BM_SimulateCc, CC4_hermite, "CC4", "0.05", "printed", "hermite")->MinTime(0.3);
 
 }  // namespace
 }  // namespace hyfal::bench

@@ -94,6 +94,17 @@ struct InputSet {
 
 enum class IntegratorKind { rk4, dopri5 };
 
+// RK4: the states inside a step, where events are located (dopri5 always uses its dense output).
+//  - restep: a fresh RK4 step of length tau from the step's start, each a genuine RK4 solution;
+//    toms748 brackets the event (the default).
+//  - hermite: the cubic Hermite interpolant through the step's end states and their
+//    derivatives (one more flow evaluation in a step where a guard changes sign, then a cubic per
+//    state; exact where the solution is a polynomial of degree <= 3), and a regula falsi
+//    (Anderson-Björck, core/root_bracket.hpp) brackets the event: for a model that switches at
+//    almost every step, where the re-steps and toms748's own arithmetic were two thirds of a
+//    simulation (suites/cc.cpp's `interpolation`).
+enum class StepInterpolation { restep, hermite };
+
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::rk4;
   double step = 0.01;        // rk4: fixed step; dopri5: initial step
@@ -101,6 +112,7 @@ struct IntegratorSettings {
   double abs_tol = 1e-9;     // dopri5 error control
   double rel_tol = 1e-9;
   double event_time_tol = 1e-12;  // width of the final bracket around an event time
+  StepInterpolation interpolation = StepInterpolation::restep;  // rk4 only
 };
 
 // Guards g_k(q, x; p), or g_k(q, x, u; p) for a model whose guards read the input.

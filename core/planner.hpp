@@ -173,6 +173,9 @@ struct OptionSpec {
   Json default_value;
   std::string help;
   std::string range = {};
+  // A suite parameter added after results were stored: at its default it is left out of the
+  // instance key (canonical_instance), so stored keys and the trial seeds drawn from them stay.
+  bool keyed_at_default = true;
 };
 
 struct MethodEntry {

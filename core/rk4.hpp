@@ -46,6 +46,9 @@ class Rk4Step {
       out[i] = kOne * x[i] + b0 * k1[i] + b1 * k2[i] + b2 * k3[i] + b3 * k4[i];
   }
 
+  // The flow at the last step's start (its first stage, k1).
+  const double* start_slope() const { return k1_.data(); }
+
  private:
   static constexpr double kZero = 0.0, kOne = 1.0, kHalf = 1.0 / 2.0;
   static constexpr double kSixth = 1.0 / 6.0, kThird = 1.0 / 3.0;

@@ -1,7 +1,8 @@
 // Simulation of one hybrid model: fixed-step RK4 (core/rk4.hpp: odeint's runge_kutta4, step for
 // step and bit for bit) or Boost.Odeint's adaptive Dormand-Prince 5 with dense output, event
 // detection by sign change of a guard within a step and localization with Boost.Math toms748
-// (seed 002 Alg. 3).
+// (seed 002 Alg. 3); for RK4 optionally on the step's Hermite interpolant with a regula falsi
+// (StepInterpolation::hermite, model.hpp).
 //
 // The model is a template parameter, so every RK stage calls M::flow directly. All buffers
 // are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).
@@ -21,6 +22,7 @@
 
 #include "core/model.hpp"
 #include "core/rk4.hpp"
+#include "core/root_bracket.hpp"
 
 namespace hyfal {
 
@@ -57,6 +59,9 @@ class ModelPropagator final : public Propagator {
                                          Dopri5())),
         dim_(static_cast<std::size_t>(model.dim())),
         rk4_(dim_), x0_(dim_), x1_(dim_), xt_(dim_) {
+    if (hermite()) {
+      for (State* c : {&c1_, &c2_, &c3_, &xh_}) c->resize(dim_);
+    }
     for (LocatedState& s : located_) s.x.resize(dim_);
     g0_.reserve(64);
     g1_.reserve(64);
@@ -248,10 +253,19 @@ class ModelPropagator final : public Propagator {
     return true;
   }
 
+  bool hermite() const {
+    return settings_.kind == IntegratorKind::rk4 && settings_.interpolation == StepInterpolation::hermite;
+  }
+
   // State at time tau in the current step [t, t1]: RK4 re-steps from x0_ (a genuine RK4
-  // step of length tau - t); dopri5 uses the dense output. A state a localization already
-  // computed in this step is copied (see located_).
+  // step of length tau - t), or the step's Hermite interpolant; dopri5 uses the dense output. A
+  // state a localization already computed in this step is copied (see located_).
   void state_at(const FlowField& field, double t, double tau, State& xs) {
+    if (hermite()) {
+      hermite_prepare(field, t);
+      hermite_at(theta_of(tau), xs.data());
+      return;
+    }
     for (const LocatedState& s : located_) {
       if (s.step == step_ && s.tau == tau) {
         std::copy(s.x.begin(), s.x.end(), xs.begin());
@@ -275,6 +289,17 @@ class ModelPropagator final : public Propagator {
   // unsafe set is entered at the right end (phi = -s >= 0: the end state really is unsafe).
   template <class Phi>
   std::pair<double, double> locate(const FlowField& field, double t, double t1, Phi phi, double phi0, double phi1) {
+    if (hermite()) {  // in θ = (tau - t)/h, the interpolant's own variable
+      if (phi0 >= 0.0) phi0 = -std::numeric_limits<double>::min();
+      hermite_prepare(field, t);
+      const auto [a, b] = bracket_root(
+          [&](double theta) {
+            hermite_at(theta, xh_.data());
+            return phi(xh_);
+          },
+          theta_of(t), theta_of(t1), phi0, phi1, settings_.event_time_tol * hermite_inv_h_);
+      return {remember_theta(a), remember_theta(b)};
+    }
     auto f = [&](double tau) {
       LocatedState& s = located_[next_located_++ % located_.size()];
       state_at(field, t, tau, s.x);
@@ -290,6 +315,54 @@ class ModelPropagator final : public Propagator {
     const auto bracket =
         boost::math::tools::toms748_solve(f, t, t1, phi0, phi1, close_enough, max_iter);
     return bracket;
+  }
+
+  // The step's cubic Hermite interpolant (the classical dense output of a one-step method):
+  // x(θ) = x0 + θ (c1 + θ (c2 + θ c3)), θ = (tau − t)/h in [0, 1], with c1 = h f0,
+  // c2 = 3Δ − h (2 f0 + f1), c3 = h (f0 + f1) − 2Δ, Δ = x1 − x0, f0 and f1 the flow at the ends.
+  // The coefficients are computed once per step (step_); f0 is the RK4 step's first stage.
+  void hermite_prepare(const FlowField& field, double t) {
+    if (hermite_step_ == step_) return;
+    const std::size_t n = dim_;
+    hermite_step_ = step_;
+    hermite_t_ = t;
+    hermite_h_ = step_h_;
+    hermite_inv_h_ = 1.0 / step_h_;
+    for (double& tau : located_tau_) tau = std::numeric_limits<double>::quiet_NaN();
+    std::copy(rk4_.start_slope(), rk4_.start_slope() + n, c1_.begin());  // f0 (step_to's k1)
+    field(x1_.data(), c2_.data());                                       // f1
+    const double h = hermite_h_;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double f0 = c1_[i], f1 = c2_[i], d = x1_[i] - x0_[i];
+      c1_[i] = h * f0;
+      c2_[i] = 3.0 * d - h * (2.0 * f0 + f1);
+      c3_[i] = h * (f0 + f1) - 2.0 * d;
+    }
+  }
+  // The interpolant at θ; the step's ends are x0_ and x1_ themselves.
+  void hermite_at(double theta, double* xs) const {
+    const std::size_t n = dim_;
+    if (theta <= 0.0 || theta >= 1.0) {
+      const double* x = theta >= 1.0 ? x1_.data() : x0_.data();
+      std::copy(x, x + n, xs);
+      return;
+    }
+    for (std::size_t i = 0; i < n; ++i) xs[i] = x0_[i] + theta * (c1_[i] + theta * (c2_[i] + theta * c3_[i]));
+  }
+  // θ of a time in the step; a time a localization of this step returned maps back to the θ it
+  // was found at (t + θ h and back need not round to the same θ), so an event's state is the
+  // one its guard was evaluated at.
+  double theta_of(double tau) const {
+    for (std::size_t e = 0; e < located_tau_.size(); ++e)
+      if (tau == located_tau_[e]) return located_theta_[e];
+    if (tau == hermite_t_) return 0.0;
+    if (tau == hermite_t_ + hermite_h_) return 1.0;
+    return (tau - hermite_t_) * hermite_inv_h_;
+  }
+  double remember_theta(double theta) {
+    const std::size_t e = next_theta_++ % located_tau_.size();
+    located_theta_[e] = theta;
+    return located_tau_[e] = theta <= 0.0 ? hermite_t_ : hermite_t_ + theta * hermite_h_;
   }
 
   // The peak function of guard k at a step end where the guard's value is g; 0 (nothing to
@@ -326,8 +399,20 @@ class ModelPropagator final : public Propagator {
       g1_[k] = guard_of(q, k, x1_.data(), u, pp);
       double tk = std::numeric_limits<double>::infinity();
       if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-        tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g1_[k])
-                 .first;
+        // Hermite: after an event found at event_t, a guard still <= 0 there turns > 0 only
+        // later (for a guard that changes sign once in the step) and cannot win, and one > 0
+        // there crossed before it: the search is skipped, or cut to [t, event_t]. (Re-steps
+        // search the whole step, so that their results stay those of earlier versions.)
+        double end = t1, g_end = g1_[k];
+        if (hermite() && event_t < t1) {
+          hermite_prepare(field, t);
+          hermite_at(theta_of(event_t), xh_.data());
+          end = event_t;
+          g_end = guard_of(q, k, xh_.data(), u, pp);
+        }
+        if (g_end > 0.0)
+          tk = locate(field, t, end, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g_end)
+                   .first;
       } else if constexpr (kGuardPeaks) {
         h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u, pp);
         if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
@@ -346,6 +431,7 @@ class ModelPropagator final : public Propagator {
     if (settings_.kind == IntegratorKind::rk4) {
       const double h = std::min(settings_.step, end_t - t);
       rk4_(field, x0_.data(), x1_.data(), h);
+      step_h_ = h;
       return t + h;
     }
     const auto [ta, tb] = dense_.do_step(field);
@@ -451,6 +537,13 @@ class ModelPropagator final : public Propagator {
   std::array<LocatedState, 8> located_;  // 8: the last localization's evaluations and the one before
   std::size_t next_located_ = 0;
   std::uint64_t step_ = 1;  // entries start at step 0: none valid
+  // The Hermite interpolant of the step hermite_step_ (StepInterpolation::hermite only).
+  State c1_, c2_, c3_, xh_;
+  std::uint64_t hermite_step_ = 0;
+  double hermite_t_ = 0.0, hermite_h_ = 1.0, hermite_inv_h_ = 1.0;
+  std::array<double, 8> located_tau_{}, located_theta_{};  // the step's brackets' ends (theta_of)
+  std::size_t next_theta_ = 0;
+  double step_h_ = 0.0;  // the length of the current RK4 step (step_to)
 };
 
 }  // namespace hyfal

@@ -19,8 +19,9 @@ SuiteEntry at_suite();
 SuiteEntry cc_suite();
 
 const std::vector<SuiteEntry>& all_suites();
-// A resolved instance as its key: the default (empty) requirement left out (registry.cpp).
-Json canonical_instance(Json instance);
+// A resolved instance as its key: the parameters at their default that are not keyed there
+// (OptionSpec::keyed_at_default: the empty requirement, later additions) left out.
+Json canonical_instance(const std::vector<OptionSpec>& parameters, Json instance);
 const SuiteEntry* find_suite(std::string_view name);
 
 }  // namespace hyfal

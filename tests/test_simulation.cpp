@@ -14,11 +14,13 @@
 #include <random>
 #include <stop_token>
 #include <thread>
+#include <tuple>
 
 #include <boost/numeric/odeint.hpp>
 
 #include "core/options.hpp"
 #include "core/planner.hpp"
+#include "core/root_bracket.hpp"
 #include "core/system.hpp"
 #include "suites/registry.hpp"
 
@@ -97,6 +99,12 @@ IntegratorSettings rk4(double h) {
   IntegratorSettings s;
   s.kind = IntegratorKind::rk4;
   s.step = h;
+  return s;
+}
+// RK4 whose events are located on the step's cubic Hermite interpolant.
+IntegratorSettings rk4_hermite(double h) {
+  IntegratorSettings s = rk4(h);
+  s.interpolation = StepInterpolation::hermite;
   return s;
 }
 IntegratorSettings dopri5(double tol, double max_step = 0.05) {
@@ -180,7 +188,7 @@ TEST(Integration, Dopri5MatchesClosedForm) {
 
 TEST(Events, BouncingBallImpactTimeRk4AndDopri5) {
   const double h0 = 10.0, t_impact = std::sqrt(2.0 * h0 / Ball::g);
-  for (const auto& s : {rk4(0.01), dopri5(1e-12)}) {
+  for (const auto& s : {rk4(0.01), rk4_hermite(0.01), rk4_hermite(0.5), dopri5(1e-12)}) {
     const Ball ball;
     ModelPropagator<Ball> prop(ball, s);
     double x0[2] = {h0, 0.0}, x1[2];
@@ -227,6 +235,78 @@ TEST(Events, ThermostatSwitchTimesAreExact) {
   EXPECT_NEAR(x2[2], 0.5, 1e-12);  // heater time frozen while off
 }
 
+// x' = -x from 1, guard x < 0.3 (exactly at ln(10/3)): a flow that is not a polynomial, so the
+// Hermite interpolant is not exact. With h = 0.1 both dense outputs place the event 1.08e-6 s
+// late (RK4's global error at the step ends) and 5.5e-9 s apart (the interpolant's own error,
+// O(h^4) against the re-step's O(h^5); computed independently in Python).
+struct DecayBelow {
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 1; }
+  bool valid_mode(Mode q) const { return q <= 1; }
+  void flow(Mode, const double* x, const double*, const double*, double* dx) const { dx[0] = -x[0]; }
+  int guard_count(Mode q) const { return q == 0 ? 1 : 0; }
+  double guard(Mode, int, const double* x, const double*) const { return 0.3 - x[0]; }
+  Mode jump(Mode, int, double*, const double*) const { return 1; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double*, const double*) const { return 1.0; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+TEST(Events, HermiteAndResteppedEventsAgreeOnAnExponentialFlow) {
+  const double exact = std::log(1.0 / 0.3);
+  double found[2];
+  int i = 0;
+  for (const auto& s : {rk4(0.1), rk4_hermite(0.1)}) {
+    const DecayBelow m;
+    ModelPropagator<DecayBelow> prop(m, s);
+    double x0[1] = {1.0}, x1[1];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 5.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::jumped);
+    EXPECT_NEAR(r.duration, exact + 1.08e-6, 1e-8);
+    EXPECT_NEAR(x1[0], 0.3, 1e-12);  // the guard's zero on the interpolant (or re-step)
+    EXPECT_GE(x1[0], 0.3);           // taken before the guard turns positive
+    found[i++] = r.duration;
+  }
+  EXPECT_NE(found[0], found[1]);  // two different dense outputs, really used
+  EXPECT_NEAR(found[0] - found[1], 5.46e-9, 0.1e-9);
+}
+
+TEST(RootBracket, BracketsEveryRootToTheToleranceWithFewEvaluations) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> coef(-2.0, 2.0), root(0.0, 1.0);
+  int total = 0, worst = 0;
+  const int cases = 2000;
+  for (int c = 0; c < cases; ++c) {
+    // A cubic with one root r in (0, 1), increasing through it: (x - r)(1 + q(x)) with q >= -0.9.
+    const double r = root(rng), q1 = coef(rng) * 0.2, q2 = coef(rng) * 0.2;
+    auto f = [&](double x) { return (x - r) * (1.0 + 0.5 + q1 * x + q2 * x * x); };
+    int n = 0;
+    auto counted = [&](double x) { ++n; return f(x); };
+    const double tol = 1e-12;
+    const auto [a, b] = bracket_root(counted, 0.0, 1.0, f(0.0), f(1.0), tol);
+    ASSERT_LE(b - a, tol);
+    ASSERT_LE(f(a), 0.0);
+    ASSERT_GT(f(b), 0.0);
+    ASSERT_LE(a, r + tol);
+    ASSERT_GE(b, r - tol);
+    total += n;
+    worst = std::max(worst, n);
+  }
+  EXPECT_LE(total, 8 * cases);  // superlinear: bisection would need 40 per root
+  EXPECT_LE(worst, 20);
+  // A step (no interpolation helps): still bracketed, within the evaluation cap.
+  int n = 0;
+  const auto [a, b] = bracket_root([&](double x) { ++n; return x > 0.123456789 ? 1.0 : -1.0; }, 0.0, 1.0, -1.0, 1.0, 1e-12);
+  EXPECT_LE(b - a, 1e-12);
+  EXPECT_LE(a, 0.123456789);
+  EXPECT_GT(b, 0.123456789);
+  EXPECT_LE(n, 200);
+  // f(a) = 0: the root at a itself is not in (a, b]; the bracket closes just after a.
+  const auto [a0, b0] = bracket_root([](double x) { return x; }, 0.0, 1.0, 0.0, 1.0, 1e-12);
+  EXPECT_EQ(a0, 0.0);
+  EXPECT_LE(b0, 1e-12);
+}
+
 TEST(Events, InvariantViolationReturnsLastValidState) {
   auto sys = thermostat();
   auto prop = sys->make_propagator();
@@ -244,31 +324,42 @@ TEST(Events, UnsafeCrossingIsLocalizedInsideTheUnsafeSet) {
   Ramp m;
   m.a0 = m.a1 = 100.0;
   m.s_at = 0.537;
-  ModelPropagator<Ramp> prop(m, rk4(0.1));
-  double x0[1] = {0.0}, x1[1];
-  const double u[1] = {1.0};
-  const auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
-  ASSERT_EQ(r.end, PropagationEnd::unsafe);
-  EXPECT_NEAR(r.duration, 0.537, 1e-11);
-  EXPECT_LE(r.spec, 0.0);
+  for (const auto& s : {rk4(0.1), rk4_hermite(0.1)}) {
+    ModelPropagator<Ramp> prop(m, s);
+    double x0[1] = {0.0}, x1[1];
+    const double u[1] = {1.0};
+    const auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::unsafe);
+    EXPECT_NEAR(r.duration, 0.537, 1e-11);
+    EXPECT_LE(r.spec, 0.0);
+  }
 }
 
 TEST(Events, EarliestGuardWinsThenLowerIndex) {
-  Ramp m;
-  m.a0 = 0.7;
-  m.a1 = 0.3;  // guard 1 fires first
-  ModelPropagator<Ramp> prop(m, rk4(0.5));
-  double x0[1] = {0.0}, x1[1];
-  const double u[1] = {1.0};
-  auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
-  EXPECT_EQ(r.transition, 1);
-  EXPECT_EQ(r.mode, 11u);
-  EXPECT_NEAR(r.duration, 0.3, 1e-11);
-  m.a0 = m.a1 = 0.3;  // simultaneous: priority to the lower index
-  ModelPropagator<Ramp> prop2(m, rk4(0.5));
-  r = prop2.propagate(0, x0, u, kNoP, 2.0, x1);
-  EXPECT_EQ(r.transition, 0);
-  EXPECT_EQ(r.mode, 10u);
+  // Hermite: a guard after the first one found is searched only before that event (and
+  // skipped when still off there), so both orders of the thresholds are checked.
+  for (const auto& s : {rk4(0.5), rk4_hermite(0.5)}) {
+    for (const auto& [a0, a1, first] : {std::tuple{0.7, 0.3, 1}, std::tuple{0.3, 0.7, 0}, std::tuple{0.31, 0.3, 1}}) {
+      Ramp m;
+      m.a0 = a0;
+      m.a1 = a1;
+      ModelPropagator<Ramp> prop(m, s);
+      double x0[1] = {0.0}, x1[1];
+      const double u[1] = {1.0};
+      auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
+      EXPECT_EQ(r.transition, first) << a0 << " " << a1;
+      EXPECT_EQ(r.mode, 10u + first);
+      EXPECT_NEAR(r.duration, std::min(a0, a1), 1e-11);
+    }
+    Ramp m;
+    m.a0 = m.a1 = 0.3;  // simultaneous: priority to the lower index
+    ModelPropagator<Ramp> prop2(m, s);
+    double x0[1] = {0.0}, x1[1];
+    const double u[1] = {1.0};
+    const auto r = prop2.propagate(0, x0, u, kNoP, 2.0, x1);
+    EXPECT_EQ(r.transition, 0);
+    EXPECT_EQ(r.mode, 10u);
+  }
 }
 
 // x' = -1 through a band guard |x| < tol (like aircraft's heading band): with steps of 0.5
@@ -384,7 +475,7 @@ TEST(Events, NonFiniteStateIsRejected) {
 }
 
 TEST(Allocation, PropagationsAllocateNothing) {
-  for (const auto& s : {rk4(0.01), dopri5(1e-9)}) {
+  for (const auto& s : {rk4(0.01), rk4_hermite(0.01), dopri5(1e-9)}) {
     const Ball ball;
     ModelPropagator<Ball> prop(ball, s);
     double x0[2] = {10.0, 0.0}, x1[2];

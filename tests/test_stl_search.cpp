@@ -71,7 +71,7 @@ TEST(StlRequirement, ADeclaredIdOrAFormulaOverTheSignals) {
   const auto reach = make("thermostat", {});
   EXPECT_EQ(reach->info().requirement, nullptr);
   EXPECT_FALSE(reach->info().instance.contains("requirement"));
-  EXPECT_EQ(canonical_instance(resolve_options(find_suite("thermostat")->parameters, {})).dump(),
+  EXPECT_EQ(canonical_instance(find_suite("thermostat")->parameters, resolve_options(find_suite("thermostat")->parameters, {})).dump(),
             R"({"horizon":60.0,"input_levels":5,"sample_window":10.0,"step":0.1})")
       << "a reachability instance's key (and so its trial seeds) must not change";
 
@@ -136,7 +136,7 @@ TEST(StlSearch, EveryTreeMethodFalsifiesAnStlRequirementAndItsWitnessValidates) 
   methods.push_back({find_method("rrt"), {{"robustness_bias", "0.5"}, {"batch", "4"}}});
   for (const StlCase& c : stl_cases()) {
     const SuiteEntry* suite = find_suite(c.suite);
-    const Json instance = canonical_instance(resolve_options(suite->parameters, c.sets));
+    const Json instance = canonical_instance(suite->parameters, resolve_options(suite->parameters, c.sets));
     const auto sys = suite->make(instance);
     for (const auto& [m, options] : methods) {
       const bool refuses_stl = m->name.starts_with("hydice") || m->name.starts_with("ompl");
@@ -423,7 +423,7 @@ TEST(StlSearch, UniformRandomInBatchesIsTheSequentialSearch) {
 // Batches and robustness guidance give the same trials at any thread count.
 TEST(StlSearch, ResultsDoNotDependOnTheThreadCount) {
   const SuiteEntry* suite = find_suite("thermostat");
-  const Json instance = canonical_instance(resolve_options(suite->parameters, {{"requirement", "T1"}}));
+  const Json instance = canonical_instance(suite->parameters, resolve_options(suite->parameters, {{"requirement", "T1"}}));
   const auto sys = suite->make(instance);
   std::vector<TrialJob> jobs;
   for (const Sets& options : std::vector<Sets>{{{"batch", "8"}, {"robustness_bias", "0.3"}}, {{"robustness_bias", "0.3"}}})

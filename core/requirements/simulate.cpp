@@ -95,6 +95,7 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   trace.end = PropagationEnd::completed;
   trace.problem.clear();
   trace.integration_steps = 0;
+  trace.transitions = 0;
   AllSignals sink(system, trace, p);
   Propagator& prop = *impl_->prop;
   prop.set_trace(&sink);
@@ -119,7 +120,9 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
           sink.begin(now, piece.u);
           return true;
         },
-        [](const PropagationResult&, Mode, std::span<const double>, double) {});
+        [&](const PropagationResult& r, Mode, std::span<const double>, double) {
+          trace.transitions += r.end == PropagationEnd::jumped;
+        });
     trace.integration_steps += e.result.steps;
     if (e.stopped || e.result.end == PropagationEnd::rejected || e.result.end == PropagationEnd::invariant) {
       trace.end = e.stopped ? PropagationEnd::rejected : e.result.end;

@@ -35,6 +35,7 @@ struct SimulatedTrace {
   // thermostat's, cannot be driven by one signal).
   std::string problem;
   std::int64_t integration_steps = 0;  // over every propagation, the interrupted one included
+  std::int64_t transitions = 0;        // discrete transitions taken (mode switches, shifts)
   std::size_t samples() const { return time.size(); }
 };
 

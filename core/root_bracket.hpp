@@ -1,0 +1,63 @@
+// A root of a scalar function bracketed to a given width by regula falsi with the
+// Anderson-Björck modification, for event localization on a cheap interpolant (core/simulation.hpp).
+//
+// Why not Boost.Math's toms748 (used on RK4 re-steps): on a step's cubic interpolant one
+// evaluation costs a few nanoseconds, and toms748's own arithmetic (its quadratic and cubic
+// interpolation steps, about 0.1 µs per localization) was then most of the time. Regula falsi
+// needs one division per point. The Anderson-Björck rule (Anderson & Björck, BIT 12, 1973):
+// when the same end is kept twice in a row, its value is scaled by m = 1 - f(c)/f(new end), or
+// by 1/2 when m <= 0; this avoids plain regula falsi's one-sided stagnation and converges
+// superlinearly (on the chasing cars' shift guards: 4.0 evaluations per localization to 1e-12 s,
+// against 4.9 with Illinois' fixed 1/2, and 4.8 for toms748 on re-steps).
+#pragma once
+#include <utility>
+
+namespace hyfal {
+
+// A root of f in (a, b], where f(a) <= 0 < f(b), as a bracket [a', b'] with
+// a <= a' < b' <= b, b' - a' <= tol and f(a') <= 0 < f(b') (a' = a or b' = b where f was not
+// evaluated). Each point is kept at least tol/2 inside the current bracket, so once a point
+// lands (numerically) on the root the next lands on its other side and closes the bracket.
+// At most max_evaluations calls of f; the bracket reached then is returned.
+template <class F>
+std::pair<double, double> bracket_root(F&& f, double a, double b, double fa, double fb, double tol,
+                                       int max_evaluations = 200) {
+  // The next point is the secant through (a, fa) and (b, fb) after the scaling, written with
+  // one division: the scaled value (fa m, m = (fb_old - fc)/fb_old) enters the secant as the
+  // numerator over fb_old, so the scaling's own division runs beside it, not before it (a
+  // division's latency per point: the loop is one chain of dependent operations).
+  const double half = 0.5 * tol;
+  double c = b - fb * (b - a) / (fb - fa);  // plain regula falsi first
+  int kept = 0;                              // +1: b was replaced last, -1: a was
+  for (int i = 0; i < max_evaluations && b - a > tol; ++i) {
+    if (!(c >= a + half)) c = c < a + half ? a + half : 0.5 * (a + b);  // NaN: the midpoint
+    if (c > b - half) c = b - half;
+    const double fc = f(c);
+    if (fc > 0.0) {
+      if (kept == 1 && fb - fc > 0.0) {  // a kept twice: fa scaled by m = (fb - fc)/fb > 0
+        const double num = fa * (fb - fc), next = c - fc * (c - a) * fb / (fc * fb - num);
+        fa = num / fb;
+        b = c, fb = fc, c = next;
+      } else {
+        if (kept == 1) fa *= 0.5;  // m <= 0
+        b = c, fb = fc;
+        c = b - fb * (b - a) / (fb - fa);
+      }
+      kept = 1;
+    } else {
+      if (kept == -1 && fa - fc < 0.0) {  // b kept twice: fb scaled by m = (fa - fc)/fa > 0
+        const double num = fb * (fa - fc), next = c - fc * (c - b) * fa / (fc * fa - num);
+        fb = num / fa;
+        a = c, fa = fc, c = next;
+      } else {
+        if (kept == -1) fb *= 0.5;  // m <= 0
+        a = c, fa = fc;
+        c = b - fb * (b - a) / (fb - fa);
+      }
+      kept = -1;
+    }
+  }
+  return {a, b};
+}
+
+}  // namespace hyfal
