@@ -261,9 +261,8 @@ class ModelPropagator final : public Propagator {
   // step of length tau - t), or the step's Hermite interpolant; dopri5 uses the dense output. A
   // state a localization already computed in this step is copied (see located_).
   void state_at(const FlowField& field, double t, double tau, State& xs) {
-    if (hermite()) {
-      hermite_prepare(field, t);
-      hermite_at(theta_of(tau), xs.data());
+    if (hermite()) [[unlikely]] {
+      hermite_state(field, t, tau, xs.data());
       return;
     }
     for (const LocatedState& s : located_) {
@@ -289,17 +288,8 @@ class ModelPropagator final : public Propagator {
   // unsafe set is entered at the right end (phi = -s >= 0: the end state really is unsafe).
   template <class Phi>
   std::pair<double, double> locate(const FlowField& field, double t, double t1, Phi phi, double phi0, double phi1) {
-    if (hermite()) {  // in θ = (tau - t)/h, the interpolant's own variable
-      if (phi0 >= 0.0) phi0 = -std::numeric_limits<double>::min();
-      hermite_prepare(field, t);
-      const auto [a, b] = bracket_root(
-          [&](double theta) {
-            hermite_at(theta, xh_.data());
-            return phi(xh_);
-          },
-          theta_of(t), theta_of(t1), phi0, phi1, settings_.event_time_tol * hermite_inv_h_);
-      return {remember_theta(a), remember_theta(b)};
-    }
+    if (hermite()) [[unlikely]]
+      return locate_on_interpolant(field, t, t1, phi, phi0, phi1);
     auto f = [&](double tau) {
       LocatedState& s = located_[next_located_++ % located_.size()];
       state_at(field, t, tau, s.x);
@@ -315,6 +305,26 @@ class ModelPropagator final : public Propagator {
     const auto bracket =
         boost::math::tools::toms748_solve(f, t, t1, phi0, phi1, close_enough, max_iter);
     return bracket;
+  }
+
+  // locate() on the Hermite interpolant, in θ = (tau - t)/h, the interpolant's own variable.
+  // Out of line (as hermite_state), so that the re-step path is compiled as before it.
+  template <class Phi>
+  __attribute__((noinline)) std::pair<double, double> locate_on_interpolant(const FlowField& field, double t, double t1,
+                                                                            Phi phi, double phi0, double phi1) {
+    if (phi0 >= 0.0) phi0 = -std::numeric_limits<double>::min();
+    hermite_prepare(field, t);
+    const auto [a, b] = bracket_root(
+        [&](double theta) {
+          hermite_at(theta, xh_.data());
+          return phi(xh_);
+        },
+        theta_of(t), theta_of(t1), phi0, phi1, settings_.event_time_tol * hermite_inv_h_);
+    return {remember_theta(a), remember_theta(b)};
+  }
+  __attribute__((noinline)) void hermite_state(const FlowField& field, double t, double tau, double* xs) {
+    hermite_prepare(field, t);
+    hermite_at(theta_of(tau), xs);
   }
 
   // The step's cubic Hermite interpolant (the classical dense output of a one-step method):
@@ -404,9 +414,8 @@ class ModelPropagator final : public Propagator {
         // there crossed before it: the search is skipped, or cut to [t, event_t]. (Re-steps
         // search the whole step, so that their results stay those of earlier versions.)
         double end = t1, g_end = g1_[k];
-        if (hermite() && event_t < t1) {
-          hermite_prepare(field, t);
-          hermite_at(theta_of(event_t), xh_.data());
+        if (hermite() && event_t < t1) [[unlikely]] {
+          hermite_state(field, t, event_t, xh_.data());
           end = event_t;
           g_end = guard_of(q, k, xh_.data(), u, pp);
         }

@@ -44,9 +44,11 @@
 //    It is not the default because the league's stored CC runs were made with re-steps, and
 //    because robustness-guided RRT is sensitive to the last bits here: its input choice compares
 //    candidates whose upper bounds agree up to rounding (the last two cars, which CC1 reads, have
-//    not yet felt the input), so different rounding picks different inputs, and on CC1 with a cap
-//    of 5,000 nodes rrt (robustness_bias 0.5) falsified 53 of 80 runs with hermite against 76 of
-//    80 with re-steps (measured 2026-12-05). At its default it is left out of the instance key.
+//    not yet felt the input: their end states are equal), so different rounding picks different
+//    inputs from the same seed (from the second node on). On CC1 with a cap of 5,000 nodes, rrt
+//    (robustness_bias 0.5) falsified 53 of 80 runs with hermite against 76 of 80 with re-steps
+//    (and 20 against 28 of 30 from the same seeds; measured 2026-12-05): more than chance, and
+//    not explained yet. At its default the parameter is left out of the instance key.
 //  - δt (one tree extension, one input piece) = `step`, default 5 s. `input_instance` is ARCH-COMP's:
 //    1 (piecewise continuous inputs: any step) or 2 (piecewise constant, discontinuities at least
 //    5 s apart: step must be >= 5). The inputs are a held signal (SystemInfo::held_inputs): under
