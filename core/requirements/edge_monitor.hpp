@@ -9,6 +9,7 @@
 // it, and at the first sample the first piece's).
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <span>
 #include <vector>
@@ -89,6 +90,26 @@ class EdgeMonitor {
     }
     evaluated_ = false;
   }
+  // A candidate evaluated and set aside whole (samples, node state, bounds), for a choice made
+  // after every candidate is propagated (rrt's input by robustness); keep(set_aside) takes it back.
+  struct EvaluatedCandidate {
+    std::vector<double> rows, state;
+    PrefixBounds bounds;
+  };
+  // After evaluate(): the candidate just propagated, into `c` (buffers swapped, nothing allocated once warm).
+  void set_aside(EvaluatedCandidate& c) {
+    c.rows.swap(rows_);
+    c.state.swap(candidate_state_);
+    c.bounds = candidate_bounds_;
+    evaluated_ = false;
+  }
+  // The candidate set aside in `c` is the one kept: finish() has nothing left to do.
+  void keep(EvaluatedCandidate& c) {
+    kept_.swap(c.rows);
+    child_.swap(c.state);
+    bounds_ = c.bounds;
+    kept_evaluated_ = true;
+  }
   // The candidate just propagated, set aside into `rows` (a planner that decides between its
   // candidates later, enhanced-rrt); finish_with() then makes the chosen one's node.
   void set_aside(std::vector<double>& rows) { rows.swap(rows_); }
@@ -113,6 +134,16 @@ class EdgeMonitor {
     return s.empty() ? PrefixBounds{} : PrefixMonitor::bounds(s);
   }
   static bool settled(const PrefixBounds& b) { return b.complete || b.lower > 0.0; }
+  // A choice by robustness (rrt's guided node and input) treats bounds within a margin of the
+  // lowest as equal to it: propagations that reach the same values by different step sequences (an
+  // event located in one car splits the step of every car) give bounds a few hundred ULPs
+  // apart, e.g. 1e-13 relative on CC1's first extensions, and a choice must not turn on that
+  // rounding. 1e-9 relative (1e-9 absolute below 1) is far above rounding, far below any
+  // robustness difference the integration resolves.
+  // The largest bound that ties with `lowest` (an infinite lowest ties with itself only).
+  static double tie_ceiling(double lowest) {
+    return std::isfinite(lowest) ? lowest + 1e-9 * std::max(1.0, std::abs(lowest)) : lowest;
+  }
   static bool violated(const PrefixBounds& b) { return b.upper < 0.0; }
 
  private:

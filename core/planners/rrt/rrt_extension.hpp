@@ -64,7 +64,7 @@ class RrtExtension {
   // Phases 1-2 from x_near = `near`: propagations and integration steps go to `counters`;
   // random inputs (if the suite's policy draws them) come from `rng`.
   // by_robustness (STL only): u_new is the input whose new node has the lowest upper bound on
-  // its robustness (ties: the nearest to x_rand) instead of the nearest to x_rand.
+  // its robustness (ties, up to rounding: the nearest to x_rand) instead of the nearest to x_rand.
   void propose(const NodeStore& tree, NodeId near, Propagator& prop, std::span<const double> x_rand,
                std::span<const double> p, Rng& rng, PlannerCounters& counters, bool by_robustness = false) {
     near_ = near;
@@ -72,32 +72,27 @@ class RrtExtension {
     const Mode q = tree.info(near).mode;
     const auto x_near = tree.state(near);
     inputs_.draw(q, x_near, rng);
-    double best = std::numeric_limits<double>::infinity();
-    double best_upper = std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < inputs_.count(); ++j) {
-      const double dt = system_.info().step_duration;
-      const PropagationResult r = stl_ ? stl_->propagate(tree, near, q, x_near, inputs_.input(j), p, dt, prop, candidate_)
-                                       : prop.propagate(q, x_near, inputs_.input(j), p, dt, candidate_);
-      count(r, counters);
-      if (!makes_progress(r)) continue;
-      const double d = metric_.distance(x_rand, candidate_);
-      bool better = d < best;
-      if (by_robustness && stl_) {
-        const double upper = stl_->evaluate(tree, near).upper;
-        better = upper < best_upper || (upper == best_upper && d < best);
-        if (better) best_upper = upper;
-      }
-      if (better) {
-        best = d;
-        best_j_ = j;
-        best_r_ = r;
-        x_new_.swap(candidate_);
-        progress_ = true;
-        if (stl_) stl_->keep();
+    q_ = q;
+    if (by_robustness && stl_) {
+      propose_by_robustness(tree, prop, x_rand, p, counters);
+    } else {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < inputs_.count(); ++j) {
+        const PropagationResult r = propagate(tree, j, prop, p, candidate_);
+        count(r, counters);
+        if (!makes_progress(r)) continue;
+        const double d = metric_.distance(x_rand, candidate_);
+        if (d < best) {
+          best = d;
+          best_j_ = j;
+          best_r_ = r;
+          x_new_.swap(candidate_);
+          progress_ = true;
+          if (stl_) stl_->keep();
+        }
       }
     }
     if (stl_ && progress_) stl_->finish(tree, near);
-    q_ = q;
   }
   // Phase 3: x_near's selection (and failure) counts; x_new added to the tree and the index.
   RrtExtensionResult commit(NodeStore& tree, NearestNeighbors& nn, PlannerCounters& counters) {
@@ -138,6 +133,62 @@ class RrtExtension {
   static bool reached_unsafe(const PropagationResult& r) { return r.end == PropagationEnd::unsafe || r.spec <= 0.0; }
 
  private:
+  // Candidate j's propagation from x_near (near_, mode q_) into `out`, sampled for the monitor
+  // under an STL requirement.
+  PropagationResult propagate(const NodeStore& tree, std::size_t j, Propagator& prop, std::span<const double> p,
+                              std::span<double> out) {
+    const double dt = system_.info().step_duration;
+    const auto x_near = tree.state(near_);
+    return stl_ ? stl_->propagate(tree, near_, q_, x_near, inputs_.input(j), p, dt, prop, out)
+                : prop.propagate(q_, x_near, inputs_.input(j), p, dt, out);
+  }
+  // The choice by robustness: every candidate is propagated, evaluated and set aside, then u_new
+  // is the nearest to x_rand of those whose upper bound ties with the lowest
+  // (EdgeMonitor::tie_ceiling), so that the choice does not turn on rounding; equal distances:
+  // the first input.
+  void propose_by_robustness(const NodeStore& tree, Propagator& prop, std::span<const double> x_rand,
+                             std::span<const double> p, PlannerCounters& counters) {
+    const std::size_t inputs = inputs_.count();
+    if (evaluated_.size() < inputs) evaluated_.resize(inputs);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < inputs; ++j) {
+      EvaluatedInput& e = evaluated_[j];
+      e.x.resize(x_new_.size());
+      e.result = propagate(tree, j, prop, p, e.x);
+      count(e.result, counters);
+      e.progress = makes_progress(e.result);
+      if (!e.progress) continue;
+      e.distance = metric_.distance(x_rand, e.x);
+      stl_->evaluate(tree, near_);
+      stl_->set_aside(e.monitor);
+      lowest = std::min(lowest, e.monitor.bounds.upper);
+    }
+    const double ceiling = stl::EdgeMonitor::tie_ceiling(lowest);
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < inputs; ++j) {
+      const EvaluatedInput& e = evaluated_[j];
+      if (e.progress && e.monitor.bounds.upper <= ceiling && (!progress_ || e.distance < best)) {
+        best = e.distance;
+        best_j_ = j;
+        progress_ = true;
+      }
+    }
+    if (!progress_) return;
+    EvaluatedInput& chosen = evaluated_[best_j_];
+    best_r_ = chosen.result;
+    x_new_.swap(chosen.x);
+    stl_->keep(chosen.monitor);
+  }
+
+  // One candidate of the choice by robustness, set aside until every candidate is evaluated.
+  struct EvaluatedInput {
+    std::vector<double> x;
+    PropagationResult result;
+    bool progress = false;
+    double distance = 0.0;
+    stl::EdgeMonitor::EvaluatedCandidate monitor;
+  };
+
   const System& system_;
   const WeightedEuclidean& metric_;
   InputGrid inputs_;
@@ -149,6 +200,7 @@ class RrtExtension {
   std::size_t best_j_ = 0;
   PropagationResult best_r_;
   std::optional<stl::EdgeMonitor> stl_;  // with an STL requirement only
+  std::vector<EvaluatedInput> evaluated_;  // the choice by robustness's candidates, one per input of Ū
 };
 
 }  // namespace hyfal

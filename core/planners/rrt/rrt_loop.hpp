@@ -24,10 +24,13 @@
 // by robustness in the same spirit): each step (each slot) first draws a coin from its stream;
 // with probability β it extends the node that wins a tournament of kTournament nodes drawn
 // uniformly from the indexed (not settled) nodes, the lowest upper bound winning, with the input
-// whose new node has the lowest upper bound; otherwise it is the plain step. β = 0 draws nothing
+// whose new node has the lowest upper bound; otherwise it is the plain step. Both choices treat
+// bounds equal up to rounding as ties (EdgeMonitor::tie_ceiling): the first drawn node, the
+// input nearest to x_rand. β = 0 draws nothing
 // (the paper's RRT, bit for bit).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -54,21 +57,23 @@ class RobustnessTournament {
   void indexed(NodeId id) {
     if (active()) open_.push_back(id);
   }
-  // Whether this step is guided, and from which node (drawn from `rng`; nothing drawn at β = 0).
+  // Whether this step is guided, and from which node (drawn from `rng`; nothing drawn at β = 0):
+  // the first drawn of those whose upper bound ties with the lowest (EdgeMonitor::tie_ceiling).
   std::optional<NodeId> draw(Rng& rng, const NodeStore& tree) const {
     if (!active() || std::uniform_real_distribution<double>(0.0, 1.0)(rng) >= bias_) return std::nullopt;
     std::uniform_int_distribution<std::size_t> pick(0, open_.size() - 1);
-    NodeId best = open_[pick(rng)];
-    double best_upper = stl::EdgeMonitor::bounds_of(tree, best).upper;
-    for (int k = 1; k < kTournament; ++k) {
-      const NodeId c = open_[pick(rng)];
-      const double u = stl::EdgeMonitor::bounds_of(tree, c).upper;
-      if (u < best_upper) {
-        best = c;
-        best_upper = u;
-      }
+    std::array<NodeId, kTournament> drawn;
+    std::array<double, kTournament> upper;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < kTournament; ++k) {
+      drawn[k] = open_[pick(rng)];
+      upper[k] = stl::EdgeMonitor::bounds_of(tree, drawn[k]).upper;
+      lowest = std::min(lowest, upper[k]);
     }
-    return best;
+    const double ceiling = stl::EdgeMonitor::tie_ceiling(lowest);
+    int k = 0;
+    while (upper[k] > ceiling) ++k;
+    return drawn[k];
   }
 
  private:
