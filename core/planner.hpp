@@ -173,9 +173,10 @@ struct OptionSpec {
   Json default_value;
   std::string help;
   std::string range = {};
-  // A suite parameter added after results were stored: at its default it is left out of the
-  // instance key (canonical_instance), so stored keys and the trial seeds drawn from them stay.
-  bool keyed_at_default = true;
+  // A suite parameter added after results were stored: at this value (the behaviour before the
+  // parameter existed) it is left out of the instance key (canonical_instance), so stored keys,
+  // and the trial seeds drawn from them, keep meaning what they meant. Unset: always keyed.
+  std::optional<Json> unkeyed_value = std::nullopt;
 };
 
 struct MethodEntry {

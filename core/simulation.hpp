@@ -60,11 +60,12 @@ class ModelPropagator final : public Propagator {
         dim_(static_cast<std::size_t>(model.dim())),
         rk4_(dim_), x0_(dim_), x1_(dim_), xt_(dim_) {
     if (hermite()) {
-      for (State* c : {&c1_, &c2_, &c3_, &xh_}) c->resize(dim_);
+      for (State* c : {&c1_, &c2_, &c3_, &xh_, &s1_, &s2_, &s3_}) c->resize(dim_);
     }
     for (LocatedState& s : located_) s.x.resize(dim_);
     g0_.reserve(64);
     g1_.reserve(64);
+    crossing_.reserve(64);
     if constexpr (kGuardPeaks) {
       h0_.reserve(64);
       h1_.reserve(64);
@@ -235,6 +236,9 @@ class ModelPropagator final : public Propagator {
         { m.guard_peak(q, k, x, u, p) } -> std::convertible_to<double>;
         { m.guard_step_change(q, k) } -> std::convertible_to<double>;
       };
+  // M::guards_affine: an optional `static constexpr bool`, true when every guard is affine in the
+  // state (model.hpp).
+  static constexpr bool kAffineGuards = requires { requires M::guards_affine; };
   static constexpr double kUnknownSafety = std::numeric_limits<double>::quiet_NaN();
   static constexpr int kNoEvent = -2;
   static constexpr int kSpecEvent = -1;
@@ -327,6 +331,29 @@ class ModelPropagator final : public Propagator {
     hermite_at(theta_of(tau), xs);
   }
 
+  // locate() of an affine guard on the Hermite interpolant: g(x(θ)) is then itself a cubic,
+  // g0 + θ (a1 + θ (a2 + θ a3)) with a_j = g(x0 + c_j) − g(x0), bracketed without the states.
+  __attribute__((noinline)) double locate_affine_guard(const FlowField& field, Mode q, int k, double t, double t1,
+                                                       const double* pp, double g_end) {
+    hermite_prepare(field, t);
+    if (shifted_step_ != step_) {
+      shifted_step_ = step_;
+      for (std::size_t i = 0; i < dim_; ++i) {
+        s1_[i] = x0_[i] + c1_[i];
+        s2_[i] = x0_[i] + c2_[i];
+        s3_[i] = x0_[i] + c3_[i];
+      }
+    }
+    const double a0 = g0_[k];
+    const double a1 = model_.guard(q, k, s1_.data(), pp) - a0, a2 = model_.guard(q, k, s2_.data(), pp) - a0,
+                 a3 = model_.guard(q, k, s3_.data(), pp) - a0;
+    const double phi0 = a0 >= 0.0 ? -std::numeric_limits<double>::min() : a0;
+    const auto [a, b] = bracket_root([&](double th) { return a0 + th * (a1 + th * (a2 + th * a3)); }, theta_of(t),
+                                     theta_of(t1), phi0, g_end, settings_.event_time_tol * hermite_inv_h_);
+    (void)b;
+    return remember_theta(a);
+  }
+
   // The step's cubic Hermite interpolant (the classical dense output of a one-step method):
   // x(θ) = x0 + θ (c1 + θ (c2 + θ c3)), θ = (tau − t)/h in [0, 1], with c1 = h f0,
   // c2 = 3Δ − h (2 f0 + f1), c3 = h (f0 + f1) − 2Δ, Δ = x1 − x0, f0 and f1 the flow at the ends.
@@ -336,8 +363,10 @@ class ModelPropagator final : public Propagator {
     const std::size_t n = dim_;
     hermite_step_ = step_;
     hermite_t_ = t;
-    hermite_h_ = step_h_;
-    hermite_inv_h_ = 1.0 / step_h_;
+    if (step_h_ != hermite_h_) {  // RK4's steps have one length but at a piece's end: one division
+      hermite_h_ = step_h_;
+      hermite_inv_h_ = 1.0 / step_h_;
+    }
     for (double& tau : located_tau_) tau = std::numeric_limits<double>::quiet_NaN();
     std::copy(rk4_.start_slope(), rk4_.start_slope() + n, c1_.begin());  // f0 (step_to's k1)
     field(x1_.data(), c2_.data());                                       // f1
@@ -405,23 +434,16 @@ class ModelPropagator final : public Propagator {
   // unsafe set's, and then lower k win ties), into event and event_t.
   void earliest_guard(const FlowField& field, Mode q, int nk, double t, double t1, const double* u,
                       const double* pp, int& event, double& event_t) {
+    if (hermite()) [[unlikely]] {
+      earliest_guard_on_interpolant(field, q, nk, t, t1, u, pp, event, event_t);
+      return;
+    }
     for (int k = 0; k < nk; ++k) {
       g1_[k] = guard_of(q, k, x1_.data(), u, pp);
       double tk = std::numeric_limits<double>::infinity();
       if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-        // Hermite: after an event found at event_t, a guard still <= 0 there turns > 0 only
-        // later (for a guard that changes sign once in the step) and cannot win, and one > 0
-        // there crossed before it: the search is skipped, or cut to [t, event_t]. (Re-steps
-        // search the whole step, so that their results stay those of earlier versions.)
-        double end = t1, g_end = g1_[k];
-        if (hermite() && event_t < t1) [[unlikely]] {
-          hermite_state(field, t, event_t, xh_.data());
-          end = event_t;
-          g_end = guard_of(q, k, xh_.data(), u, pp);
-        }
-        if (g_end > 0.0)
-          tk = locate(field, t, end, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g_end)
-                   .first;
+        tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g1_[k])
+                 .first;
       } else if constexpr (kGuardPeaks) {
         h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u, pp);
         if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0))
@@ -431,6 +453,46 @@ class ModelPropagator final : public Propagator {
         event_t = tk;
         event = k;
       }
+    }
+  }
+
+  // earliest_guard() on the Hermite interpolant. The guards that turn > 0 in the step are
+  // located in the order of their secant estimate θ ≈ g0 / (g0 − g1), so that the earliest is
+  // usually located first; after an event found at event_t, a guard still <= 0 there turns > 0
+  // only later (for a guard that changes sign once in the step) and cannot win, and one > 0
+  // there crossed before it: it is located on [t, event_t]. Equal times: the lower k.
+  __attribute__((noinline)) void earliest_guard_on_interpolant(const FlowField& field, Mode q, int nk, double t,
+                                                               double t1, const double* u, const double* pp,
+                                                               int& event, double& event_t) {
+    crossing_.clear();
+    for (int k = 0; k < nk; ++k) {
+      g1_[k] = guard_of(q, k, x1_.data(), u, pp);
+      if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
+        crossing_.push_back({g0_[k] / (g0_[k] - g1_[k]), k});
+      } else if constexpr (kGuardPeaks) {
+        h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u, pp);
+        if ((h0_[k] < 0.0 && h1_[k] > 0.0) || (h0_[k] > 0.0 && h1_[k] < 0.0)) {
+          const double tk = crossed_inside_step(field, q, k, t, t1, u, pp);
+          if (tk < event_t) event_t = tk, event = k;
+        }
+      }
+    }
+    if (crossing_.size() > 1) std::sort(crossing_.begin(), crossing_.end());
+    for (const auto& [estimate, k] : crossing_) {
+      double end = t1, g_end = g1_[k];
+      if (event_t < t1) {
+        hermite_state(field, t, event_t, xh_.data());
+        end = event_t;
+        g_end = guard_of(q, k, xh_.data(), u, pp);
+        if (!(g_end > 0.0)) continue;
+      }
+      double tk;
+      if constexpr (kAffineGuards && StateGuards<M>)
+        tk = locate_affine_guard(field, q, k, t, end, pp, g_end);
+      else
+        tk = locate(field, t, end, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g_end)
+                 .first;
+      if (tk < event_t || (tk == event_t && event >= 0 && k < event)) event_t = tk, event = k;
     }
   }
 
@@ -548,6 +610,9 @@ class ModelPropagator final : public Propagator {
   std::uint64_t step_ = 1;  // entries start at step 0: none valid
   // The Hermite interpolant of the step hermite_step_ (StepInterpolation::hermite only).
   State c1_, c2_, c3_, xh_;
+  std::vector<std::pair<double, int>> crossing_;  // earliest_guard_on_interpolant: (θ estimate, k)
+  State s1_, s2_, s3_;  // x0_ + c1_, c2_, c3_ (locate_affine_guard), of step shifted_step_
+  std::uint64_t shifted_step_ = 0;
   std::uint64_t hermite_step_ = 0;
   double hermite_t_ = 0.0, hermite_h_ = 1.0, hermite_inv_h_ = 1.0;
   std::array<double, 8> located_tau_{}, located_theta_{};  // the step's brackets' ends (theta_of)

@@ -34,21 +34,20 @@
 //  - Integration: RK4, fixed step `integration_step` = 0.05 s: positions and velocities are
 //    polynomials of degree <= 2 in Chasing and Keeping (RK4 is exact there) and exponentials in
 //    Braking; STL samples are the step ends plus both sides of every shift. CC1's robustness under
-//    full throttle is -251.228 at 0.01, 0.05 and 0.1 s alike; a simulation of 100 s takes 1.15 ms at
-//    0.05 s and 1.8 ms at 0.1 s (wider steps make each of the ~2,060 shift localizations longer;
-//    BM_SimulateCc).
-//  - `interpolation` = restep (default): a shift is located on RK4 re-steps from the step's start
-//    with toms748, as in every suite; `hermite` locates it on the step's cubic Hermite interpolant
-//    (exact in Chasing and Keeping) with a regula falsi: 0.55-0.59 ms instead of 1.16 ms per
-//    simulation (BM_SimulateCc), robustness equal to 1e-4 on random inputs (tests/test_cc.cpp).
-//    It is not the default because the league's stored CC runs were made with re-steps, and
-//    because robustness-guided RRT is sensitive to the last bits here: its input choice compares
-//    candidates whose upper bounds agree up to rounding (the last two cars, which CC1 reads, have
-//    not yet felt the input: their end states are equal), so different rounding picks different
-//    inputs from the same seed (from the second node on). On CC1 with a cap of 5,000 nodes, rrt
-//    (robustness_bias 0.5) falsified 53 of 80 runs with hermite against 76 of 80 with re-steps
-//    (and 20 against 28 of 30 from the same seeds; measured 2026-12-05): more than chance, and
-//    not explained yet. At its default the parameter is left out of the instance key.
+//    full throttle is -251.228 at 0.01, 0.05 and 0.1 s alike; with re-steps a simulation of 100 s
+//    took 1.15 ms at 0.05 s and 1.8 ms at 0.1 s (wider steps make each of the ~2,060 shift
+//    localizations longer; BM_SimulateCc).
+//  - `interpolation` = hermite (default): a shift is located on the step's cubic Hermite
+//    interpolant (exact in Chasing and Keeping) with a regula falsi, directly on the cubic that a
+//    gap guard is along it (guards_affine), the earliest by its secant estimate first: 0.50 ms per
+//    simulation against 1.18 ms for `restep` (BM_SimulateCc), robustness equal to 1e-4 on random
+//    inputs (tests/test_cc.cpp). `restep` locates shifts on RK4 re-steps from the step's start
+//    with toms748, as in every other suite and as every CC result stored before 2026-12-05 was
+//    made: it is left out of the instance key (those keys keep meaning re-steps), and the default
+//    is keyed. Robustness-guided RRT grows the same trees with either (its choices treat bounds
+//    equal up to rounding as ties, rrt_loop.hpp; tests/test_cc.cpp): before that, they turned on
+//    the last bits, and on CC1 with 7.5 s pieces rrt falsified 39 of 80 runs with hermite against
+//    79 of 80 with re-steps.
 //  - δt (one tree extension, one input piece) = `step`, default 5 s. `input_instance` is ARCH-COMP's:
 //    1 (piecewise continuous inputs: any step) or 2 (piecewise constant, discontinuities at least
 //    5 s apart: step must be >= 5). The inputs are a held signal (SystemInfo::held_inputs): under
@@ -91,6 +90,7 @@ constexpr int kCars = 5, kDim = 2 * kCars + 1, kTime = 2 * kCars;
 class ChasingCars {
  public:
   static constexpr bool input_affine = true;  // v1' = −u1 − u2 v1
+  static constexpr bool guards_affine = true;  // a gap minus a threshold
 
   ChasingCars(double horizon, bool keeping_backward, int levels)
       : horizon_(horizon), keeping_sign_(keeping_backward ? 1.0 : -1.0),
@@ -189,7 +189,7 @@ std::shared_ptr<const System> make_cc(const Json& instance) {
   const int input_instance = instance.at("input_instance").get<int>();
   const std::string keeping = instance.at("keeping").get<std::string>();
   const double integration_step = instance.at("integration_step").get<double>();
-  const std::string interpolation = instance.value("interpolation", std::string("restep"));  // unkeyed at its default
+  const std::string interpolation = instance.value("interpolation", std::string("restep"));  // absent: unkeyed restep
   if (integration_step > step) throw std::invalid_argument("cc: integration_step must be <= step");
   if (input_instance == 2 && step < 5.0)
     throw std::invalid_argument("cc: input_instance 2 has discontinuities at least 5 s apart: step must be >= 5");
@@ -236,8 +236,9 @@ SuiteEntry cc_suite() {
            {"input_levels", 3, "points per input dimension in Ū (grid over [0, 1]², endpoints included)", "[2, 21]"},
            {"keeping", "printed", "the Keeping mode's y' = +v as printed, or corrected y' = -v", "printed|corrected"},
            {"integration_step", 0.05, "fixed RK4 step, s (also the STL sampling step)", "[0.001, 1]"},
-           {"interpolation", "restep", "states inside a step, where shifts are located: RK4 re-steps from its start, "
-            "or the step's cubic Hermite interpolant (2x faster; see suites/cc.cpp)", "restep|hermite", false}},
+           {"interpolation", "hermite", "states inside a step, where shifts are located: the step's cubic Hermite "
+            "interpolant, or RK4 re-steps from its start (2x slower; the CC results stored before 2026-12-05; see "
+            "suites/cc.cpp)", "hermite|restep", "restep"}},
           make_cc};
 }
 

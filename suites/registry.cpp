@@ -10,13 +10,13 @@ namespace hyfal {
 namespace {
 
 // Every suite's last instance parameter: the STL requirement to falsify. Empty (the default) is
-// reachability of the suite's unsafe set, and is left out of the instance key (keyed_at_default),
+// reachability of the suite's unsafe set, and is left out of the instance key (unkeyed_value),
 // so the keys (and the trial seeds drawn from them) of every reachability run stay as they were.
 SuiteEntry with_requirement_parameter(SuiteEntry s) {
   s.parameters.push_back({"requirement", "",
                           "STL requirement to falsify: the id of one the suite declares (hyfal list) or a formula over "
                           "its signals (docs/requirements.md); empty: reach the unsafe set",
-                          "", false});
+                          "", ""});
   s.make = [make = std::move(s.make), parameters = s.parameters](const Json& instance) {
     return stl::with_requirement(make(canonical_instance(parameters, instance)), instance.value("requirement", std::string()));
   };
@@ -47,7 +47,7 @@ const std::vector<SuiteEntry>& all_suites() {
 
 Json canonical_instance(const std::vector<OptionSpec>& parameters, Json instance) {
   for (const OptionSpec& p : parameters)
-    if (!p.keyed_at_default && instance.contains(p.key) && instance[p.key] == p.default_value) instance.erase(p.key);
+    if (p.unkeyed_value && instance.contains(p.key) && instance[p.key] == *p.unkeyed_value) instance.erase(p.key);
   return instance;
 }
 

@@ -19,8 +19,8 @@ SuiteEntry at_suite();
 SuiteEntry cc_suite();
 
 const std::vector<SuiteEntry>& all_suites();
-// A resolved instance as its key: the parameters at their default that are not keyed there
-// (OptionSpec::keyed_at_default: the empty requirement, later additions) left out.
+// A resolved instance as its key: the parameters at their unkeyed value (OptionSpec::unkeyed_value:
+// the empty requirement, the behaviour before a parameter was added) left out.
 Json canonical_instance(const std::vector<OptionSpec>& parameters, Json instance);
 const SuiteEntry* find_suite(std::string_view name);
 

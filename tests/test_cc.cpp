@@ -93,13 +93,14 @@ TEST(CcSuite, RrtFalsifiesCc1) {
 namespace hyfal {
 namespace {
 
-// interpolation=hermite locates the switches on the step's Hermite interpolant: the same
-// robustness to 1e-4 on random inputs (the positions are polynomials in Chasing and Keeping, where
-// the interpolant is exact), and the default (restep) stays out of the instance key, so the
-// stored CC runs keep their keys and seeds.
-TEST(CcSuite, HermiteSwitchesGiveTheSameRobustnessAndTheDefaultKeepsTheKey) {
-  const auto restep = cc();
-  const auto hermite = cc({{"interpolation", "hermite"}});
+// interpolation=hermite (the default) locates the switches on the step's Hermite interpolant: the
+// same robustness to 1e-4 on random inputs as re-steps (the positions are polynomials in Chasing
+// and Keeping, where the interpolant is exact). restep, what every CC run stored before the
+// parameter existed used, stays out of the instance key, so those keys keep meaning re-steps; the
+// default is keyed.
+TEST(CcSuite, HermiteSwitchesGiveTheSameRobustnessAndRestepKeepsTheOldKey) {
+  const auto restep = cc({{"interpolation", "restep"}});
+  const auto hermite = cc();
   EXPECT_FALSE(restep->info().instance.contains("interpolation"));
   EXPECT_EQ(hermite->info().instance.at("interpolation"), "hermite");
   EXPECT_EQ(restep->info().integrator.interpolation, StepInterpolation::restep);
@@ -133,9 +134,9 @@ TEST(CcSuite, GuidedRrtGrowsTheSameTreeWhateverTheDenseOutput) {
   const MethodEntry* m = find_method("rrt");
   auto rrt = m->make(resolve_options(m->options, {{"robustness_bias", "0.5"}}));
   const Sets sets = {{"requirement", "CC1"}, {"step", "7.5"}};
-  Sets hermite_sets = sets;
-  hermite_sets.push_back({"interpolation", "hermite"});
-  const auto restep = cc(sets), hermite = cc(hermite_sets);
+  Sets restep_sets = sets;
+  restep_sets.push_back({"interpolation", "restep"});
+  const auto restep = cc(restep_sets), hermite = cc(sets);
   int falsified = 0;
   for (std::uint64_t seed = 1; seed <= 12; ++seed) {
     const PlannerOutcome a = rrt->solve({*restep, restep->info().parameters, seed, {60.0, 2000}});

@@ -335,15 +335,23 @@ TEST(Events, UnsafeCrossingIsLocalizedInsideTheUnsafeSet) {
   }
 }
 
-TEST(Events, EarliestGuardWinsThenLowerIndex) {
-  // Hermite: a guard after the first one found is searched only before that event (and
-  // skipped when still off there), so both orders of the thresholds are checked.
+// Ramp declaring its guards affine: Hermite localization then brackets the cubic g_k(x(θ))
+// directly (ModelPropagator::locate_affine_guard).
+struct AffineRamp : Ramp {
+  static constexpr bool guards_affine = true;
+};
+
+template <class Model>
+void expect_earliest_guard_then_lower_index() {
+  // Hermite: the guards that turn on in a step are located in the order of their secant
+  // estimate, a later one only before the event found (and skipped when still off there), so
+  // both orders of the thresholds are checked, and near ties.
   for (const auto& s : {rk4(0.5), rk4_hermite(0.5)}) {
     for (const auto& [a0, a1, first] : {std::tuple{0.7, 0.3, 1}, std::tuple{0.3, 0.7, 0}, std::tuple{0.31, 0.3, 1}}) {
-      Ramp m;
+      Model m;
       m.a0 = a0;
       m.a1 = a1;
-      ModelPropagator<Ramp> prop(m, s);
+      ModelPropagator<Model> prop(m, s);
       double x0[1] = {0.0}, x1[1];
       const double u[1] = {1.0};
       auto r = prop.propagate(0, x0, u, kNoP, 2.0, x1);
@@ -351,15 +359,20 @@ TEST(Events, EarliestGuardWinsThenLowerIndex) {
       EXPECT_EQ(r.mode, 10u + first);
       EXPECT_NEAR(r.duration, std::min(a0, a1), 1e-11);
     }
-    Ramp m;
+    Model m;
     m.a0 = m.a1 = 0.3;  // simultaneous: priority to the lower index
-    ModelPropagator<Ramp> prop2(m, s);
+    ModelPropagator<Model> prop2(m, s);
     double x0[1] = {0.0}, x1[1];
     const double u[1] = {1.0};
     const auto r = prop2.propagate(0, x0, u, kNoP, 2.0, x1);
     EXPECT_EQ(r.transition, 0);
     EXPECT_EQ(r.mode, 10u);
   }
+}
+
+TEST(Events, EarliestGuardWinsThenLowerIndex) {
+  expect_earliest_guard_then_lower_index<Ramp>();
+  expect_earliest_guard_then_lower_index<AffineRamp>();
 }
 
 // x' = -1 through a band guard |x| < tol (like aircraft's heading band): with steps of 0.5
