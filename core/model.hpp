@@ -28,6 +28,9 @@
 //    guard_step_change(q, k)`: a bound on how much g_k can change within one integration step
 //    (+inf: none known); where g_k is below minus that bound at a step end, no peak above 0 can
 //    lie in a step that ends or starts there, and guard_peak is not evaluated.
+//    Optional: `static constexpr bool guards_affine = true;` when every guard is affine in x (a
+//    gap minus a threshold): RK4 with StepInterpolation::hermite then locates an event on the
+//    cubic that g_k is along the step's interpolant, without computing states.
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the

@@ -363,10 +363,8 @@ class ModelPropagator final : public Propagator {
     const std::size_t n = dim_;
     hermite_step_ = step_;
     hermite_t_ = t;
-    if (step_h_ != hermite_h_) {  // RK4's steps have one length but at a piece's end: one division
-      hermite_h_ = step_h_;
-      hermite_inv_h_ = 1.0 / step_h_;
-    }
+    hermite_h_ = step_h_;
+    hermite_inv_h_ = 1.0 / step_h_;
     for (double& tau : located_tau_) tau = std::numeric_limits<double>::quiet_NaN();
     std::copy(rk4_.start_slope(), rk4_.start_slope() + n, c1_.begin());  // f0 (step_to's k1)
     field(x1_.data(), c2_.data());                                       // f1
