@@ -26,8 +26,7 @@
 // uniformly from the indexed (not settled) nodes, the lowest upper bound winning, with the input
 // whose new node has the lowest upper bound; otherwise it is the plain step. Both choices treat
 // bounds equal up to rounding as ties (EdgeMonitor::tie_ceiling): the first drawn node, the
-// input nearest to x_rand. β = 0 draws nothing
-// (the paper's RRT, bit for bit).
+// input nearest to x_rand. β = 0 draws nothing (the paper's RRT, bit for bit).
 #pragma once
 #include <algorithm>
 #include <array>
