@@ -104,9 +104,11 @@ void BM_SimulateCc(benchmark::State& state, const char* requirement, const char*
     if (monitored) benchmark::DoNotOptimize(monitor.robustness(trace));
     samples = trace.samples();
   }
-  switches = static_cast<std::size_t>(simulator.run(pieces, system->info().parameters).transitions);
+  const stl::SimulatedTrace& last = simulator.run(pieces, system->info().parameters);
+  switches = static_cast<std::size_t>(last.transitions);
   state.counters["samples"] = static_cast<double>(samples);
   state.counters["switches"] = static_cast<double>(switches);
+  state.counters["steps"] = static_cast<double>(last.integration_steps);
 }
 BENCHMARK_CAPTURE(BM_SimulateCc, CC1, "CC1", "0.05", "printed", "hermite", true)->MinTime(0.3);
 BENCHMARK_CAPTURE(BM_SimulateCc, CC4, "CC4", "0.05", "printed", "hermite", true)->MinTime(0.3);

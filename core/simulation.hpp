@@ -60,7 +60,7 @@ class ModelPropagator final : public Propagator {
         dim_(static_cast<std::size_t>(model.dim())),
         rk4_(dim_), x0_(dim_), x1_(dim_), xt_(dim_) {
     if (hermite()) {
-      for (State* c : {&c1_, &c2_, &c3_, &xh_, &s1_, &s2_, &s3_}) c->resize(dim_);
+      for (State* c : {&c1_, &c2_, &c3_, &xh_, &zero_}) c->resize(dim_);
     }
     for (LocatedState& s : located_) s.x.resize(dim_);
     g0_.reserve(64);
@@ -331,25 +331,21 @@ class ModelPropagator final : public Propagator {
     hermite_at(theta_of(tau), xs);
   }
 
-  // locate() of an affine guard on the Hermite interpolant: g(x(θ)) is then itself a cubic,
-  // g0 + θ (a1 + θ (a2 + θ a3)) with a_j = g(x0 + c_j) − g(x0), bracketed without the states.
+  // locate() of an affine guard on the Hermite interpolant, on [t, t1] with t the step's start:
+  // g(x(θ)) is then itself a cubic, g0 + θ (a1 + θ (a2 + θ a3)), with a_j = g(c_j) − g(0) (the
+  // linear part of g applied to c_j: no state x0 + c_j to form, and no rounding of c_j against
+  // x0's magnitude) and a3 = g1 − g0 − a1 − a2 (c1 + c2 + c3 = x1 − x0, so the cubic ends at
+  // the step end's value).
   __attribute__((noinline)) double locate_affine_guard(const FlowField& field, Mode q, int k, double t, double t1,
                                                        const double* pp, double g_end) {
     hermite_prepare(field, t);
-    if (shifted_step_ != step_) {
-      shifted_step_ = step_;
-      for (std::size_t i = 0; i < dim_; ++i) {
-        s1_[i] = x0_[i] + c1_[i];
-        s2_[i] = x0_[i] + c2_[i];
-        s3_[i] = x0_[i] + c3_[i];
-      }
-    }
+    const double g_zero = model_.guard(q, k, zero_.data(), pp);
     const double a0 = g0_[k];
-    const double a1 = model_.guard(q, k, s1_.data(), pp) - a0, a2 = model_.guard(q, k, s2_.data(), pp) - a0,
-                 a3 = model_.guard(q, k, s3_.data(), pp) - a0;
+    const double a1 = model_.guard(q, k, c1_.data(), pp) - g_zero, a2 = model_.guard(q, k, c2_.data(), pp) - g_zero;
+    const double a3 = g1_[k] - a0 - a1 - a2;
     const double phi0 = a0 >= 0.0 ? -std::numeric_limits<double>::min() : a0;
-    const auto [a, b] = bracket_root([&](double th) { return a0 + th * (a1 + th * (a2 + th * a3)); }, theta_of(t),
-                                     theta_of(t1), phi0, g_end, settings_.event_time_tol * hermite_inv_h_);
+    const auto [a, b] =
+        bracket_cubic_root(a0, a1, a2, a3, 0.0, theta_of(t1), phi0, g_end, settings_.event_time_tol * hermite_inv_h_);
     (void)b;
     return remember_theta(a);
   }
@@ -609,8 +605,7 @@ class ModelPropagator final : public Propagator {
   // The Hermite interpolant of the step hermite_step_ (StepInterpolation::hermite only).
   State c1_, c2_, c3_, xh_;
   std::vector<std::pair<double, int>> crossing_;  // earliest_guard_on_interpolant: (θ estimate, k)
-  State s1_, s2_, s3_;  // x0_ + c1_, c2_, c3_ (locate_affine_guard), of step shifted_step_
-  std::uint64_t shifted_step_ = 0;
+  State zero_;  // the origin of the state space (locate_affine_guard)
   std::uint64_t hermite_step_ = 0;
   double hermite_t_ = 0.0, hermite_h_ = 1.0, hermite_inv_h_ = 1.0;
   std::array<double, 8> located_tau_{}, located_theta_{};  // the step's brackets' ends (theta_of)

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <new>
 #include <random>
@@ -305,6 +306,38 @@ TEST(RootBracket, BracketsEveryRootToTheToleranceWithFewEvaluations) {
   const auto [a0, b0] = bracket_root([](double x) { return x; }, 0.0, 1.0, 0.0, 1.0, 1e-12);
   EXPECT_EQ(a0, 0.0);
   EXPECT_LE(b0, 1e-12);
+}
+
+// bracket_cubic_root (Newton's method on an affine guard's cubic) keeps bracket_root's contract:
+// on increasing cubics, on one with three roots in the interval, on a nearly triple root (p' is
+// 1e-6 there: Newton crawls, 6 steps end 0.008 away, and the regula falsi takes over), with the
+// root at the left end, and on an interval already narrower than the tolerance.
+TEST(RootBracket, CubicByNewtonKeepsTheBracketContract) {
+  auto check = [](double c0, double c1, double c2, double c3, double lo, double hi, double tol,
+                  std::initializer_list<double> roots) {
+    const auto p = [&](double x) { return c0 + x * (c1 + x * (c2 + x * c3)); };
+    const auto [a, b] = bracket_cubic_root(c0, c1, c2, c3, lo, hi, std::min(p(lo), -std::numeric_limits<double>::min()),
+                                           p(hi), tol);
+    EXPECT_LE(b - a, tol);
+    EXPECT_LE(lo, a);
+    EXPECT_LE(b, hi);
+    EXPECT_LE(a == lo ? std::min(p(lo), 0.0) : p(a), 0.0);
+    EXPECT_GT(p(b), 0.0);
+    bool near_a_root = false;
+    for (double r : roots) near_a_root |= a <= r + tol && b >= r - tol;
+    EXPECT_TRUE(near_a_root) << a << " " << b;
+  };
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> coef(-2.0, 2.0), root(0.0, 1.0);
+  for (int c = 0; c < 2000; ++c) {
+    // (x - r)(1.5 + q1 x + q2 x²), increasing through its one root r in (0, 1).
+    const double r = root(rng), q1 = coef(rng) * 0.2, q2 = coef(rng) * 0.2;
+    for (double tol : {1e-12, 2e-11}) check(-1.5 * r, 1.5 - q1 * r, q1 - q2 * r, q2, 0.0, 1.0, tol, {r});
+  }
+  check(-0.08, 0.66, -1.5, 1.0, 0.0, 1.0, 1e-12, {0.2, 0.5, 0.8});       // (x - 0.2)(x - 0.5)(x - 0.8)
+  check(-0.1250005, 0.750001, -1.5, 1.0, 0.0, 0.9, 1e-9, {0.5});         // (x - 0.5)³ + 1e-6 (x - 0.5)
+  check(0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1e-12, {0.0});                     // x: the root at the left end
+  check(-0.25, 1.0, 0.0, 0.0, 0.25 - 4e-13, 0.25 + 4e-13, 1e-12, {0.25});  // an interval narrower than tol
 }
 
 TEST(Events, InvariantViolationReturnsLastValidState) {
