@@ -30,7 +30,9 @@
 //    lie in a step that ends or starts there, and guard_peak is not evaluated.
 //    Optional: `static constexpr bool guards_affine = true;` when every guard is affine in x (a
 //    gap minus a threshold): RK4 with StepInterpolation::hermite then locates an event on the
-//    cubic that g_k is along the step's interpolant, without computing states.
+//    cubic that g_k is along the step's interpolant, without computing states (g_k is evaluated
+//    at the origin and at the interpolant's coefficient vectors: g_k(c) − g_k(0) is its linear
+//    part).
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the
@@ -103,9 +105,9 @@ enum class IntegratorKind { rk4, dopri5 };
 //  - hermite: the cubic Hermite interpolant through the step's end states and their
 //    derivatives (one more flow evaluation in a step where a guard changes sign, then a cubic per
 //    state; exact where the solution is a polynomial of degree <= 3), and a regula falsi
-//    (Anderson-Björck, core/root_bracket.hpp) brackets the event: for a model that switches at
-//    almost every step, where the re-steps and toms748's own arithmetic were two thirds of a
-//    simulation (suites/cc.cpp's `interpolation`).
+//    (Anderson-Björck; Newton's method for guards_affine, core/root_bracket.hpp) brackets the
+//    event: for a model that switches at almost every step, where the re-steps and toms748's own
+//    arithmetic were two thirds of a simulation (suites/cc.cpp's `interpolation`).
 enum class StepInterpolation { restep, hermite };
 
 struct IntegratorSettings {

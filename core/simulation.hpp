@@ -1,8 +1,8 @@
 // Simulation of one hybrid model: fixed-step RK4 (core/rk4.hpp: odeint's runge_kutta4, step for
 // step and bit for bit) or Boost.Odeint's adaptive Dormand-Prince 5 with dense output, event
 // detection by sign change of a guard within a step and localization with Boost.Math toms748
-// (seed 002 Alg. 3); for RK4 optionally on the step's Hermite interpolant with a regula falsi
-// (StepInterpolation::hermite, model.hpp).
+// (seed 002 Alg. 3); for RK4 optionally on the step's Hermite interpolant with a regula falsi, or
+// Newton's method where the guards are affine (StepInterpolation::hermite, model.hpp).
 //
 // The model is a template parameter, so every RK stage calls M::flow directly. All buffers
 // are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).

@@ -8,6 +8,7 @@
 
 #include "core/options.hpp"
 #include "core/requirements/simulate.hpp"
+#include "core/trajectory.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {
@@ -147,6 +148,32 @@ TEST(CcSuite, GuidedRrtGrowsTheSameTreeWhateverTheDenseOutput) {
     falsified += a.status == TrialStatus::falsified;
   }
   EXPECT_GE(falsified, 10);
+}
+
+}  // namespace
+}  // namespace hyfal
+
+namespace hyfal {
+namespace {
+
+// A tree's STL falsification counts once the witness validator confirms it (rrt_loop.hpp), as the
+// optimisers' do. This CC2 run (the full league's RRT trial 17, whose refused witness ended it as
+// an error before) reaches nodes whose samples at the 0.05 s steps violate CC2 (upper bound
+// -0.077) but whose re-simulation does not (+0.093): the tree leaves each a leaf, goes on, and
+// falsifies for real. (Should CC's arithmetic change, this seed may meet no refusal any more:
+// `hyfal run --suite cc --set requirement=CC2 --set budget=1500 --set robustness_bias=0.5
+// --trials 50` shows refused_candidates in the metrics of the runs that do.)
+TEST(CcSuite, RrtGoesOnPastAFalsificationTheValidatorRefuses) {
+  const auto sys = cc({{"requirement", "CC2"}});
+  const MethodEntry* m = find_method("rrt");
+  auto rrt = m->make(resolve_options(m->options, {{"robustness_bias", "0.5"}, {"budget", "1500"}}));
+  const PlannerOutcome out = rrt->solve({*sys, sys->info().parameters, 8513342083279190520ull, {120.0, 1000000}});
+  ASSERT_EQ(out.status, TrialStatus::falsified);
+  ASSERT_TRUE(out.metrics.contains("refused_candidates"));
+  EXPECT_GE(out.metrics.at("refused_candidates").get<int>(), 1);
+  EXPECT_LT(out.metrics.at("robustness").get<double>(), 0.0);
+  ASSERT_TRUE(out.trajectory.has_value());
+  EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "rrt", 0, *out.trajectory)).valid);
 }
 
 }  // namespace

@@ -16,7 +16,9 @@
 // violation instead: each candidate's trace is sampled, the kept one extends x_near's monitor
 // state (core/requirements/edge_monitor.hpp), and x_new falsifies when its prefix robustness's
 // upper bound is < 0. A node whose robustness is settled (>= 0 on every extension) is added to
-// the tree but not to the nearest-neighbour index: no extension could falsify from it.
+// the tree but not to the nearest-neighbour index: no extension could falsify from it. Nor is a
+// node that falsifies: the search ends there, or, where the witness validator refuses the
+// falsification (rrt_loop.hpp), it stays a leaf.
 // Each step object owns its scratch (the input grid and two state buffers): one per tree and
 // slot, no allocation per step after the first use of the largest Ū.
 #pragma once
@@ -106,9 +108,9 @@ class RrtExtension {
     ++counters.nodes;
     if (stl_) {
       const stl::PrefixBounds& b = stl_->bounds();
-      const bool settled = stl::EdgeMonitor::settled(b);
-      if (!settled) nn.add(id, x_new_);
-      return {id, stl::EdgeMonitor::violated(b), settled};
+      const bool settled = stl::EdgeMonitor::settled(b), violated = stl::EdgeMonitor::violated(b);
+      if (!settled && !violated) nn.add(id, x_new_);
+      return {id, violated, settled};
     }
     nn.add(id, x_new_);
     return {id, reached_unsafe(best_r_)};

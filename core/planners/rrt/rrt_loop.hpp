@@ -14,12 +14,13 @@
 // nearest-node queries as one batch against the frozen tree, propagates the B slots' inputs in
 // parallel (RrtExtension::propose), then commits them in slot order (RrtExtension::commit): so
 // two slots of a round may extend the same x_near, and a slot does not see the nodes its round
-// adds. The first slot (in slot order) that reaches s <= 0 ends the search; the node cap is
+// adds. The first slot (in slot order) whose node falsifies ends the search; the node cap is
 // checked before each commit, so it is exact. B = 1 is the sequential loop above, with the
 // trial's one stream.
 //
 // STL requirements (SystemInfo::requirement): the step falsifies when a node's prefix robustness
-// is bounded above by a negative number (rrt_extension.hpp). Robustness guidance, `robustness_bias`
+// is bounded above by a negative number (rrt_extension.hpp) and the witness validator confirms
+// it (falsifies() below). Robustness guidance, `robustness_bias`
 // = β > 0 (Dreossi et al., NFM 2015, and FalStar's adaptive tree search bias the choice of node
 // by robustness in the same spirit): each step (each slot) first draws a coin from its stream;
 // with probability β it extends the node that wins a tournament of kTournament nodes drawn
@@ -43,6 +44,7 @@
 #include "core/planner.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
 #include "core/rng.hpp"
+#include "core/trajectory.hpp"
 #include "core/tree.hpp"
 
 namespace hyfal {
@@ -87,6 +89,8 @@ struct LowestRobustness {
   void saw(const RrtExtensionResult& r, const RrtExtension& step) {
     if (const stl::PrefixBounds* b = step.proposal_bounds(); b && r.added()) upper = std::min(upper, b->upper);
   }
+  // A falsification the validator refused: its re-simulated robustness instead (at least 0).
+  void refused(double rho) { upper = std::min(upper, rho); }
   void report(const System& sys, PlannerOutcome& out) const {
     if (sys.info().requirement) out.metrics["robustness"] = upper;
   }
@@ -170,16 +174,38 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   };
   guided.indexed(root);
   LowestRobustness lowest;
+  std::int64_t refused = 0;
   c.nodes = 1;
   auto finish = [&](std::optional<NodeId> leaf, TrialStatus status) {
     out.status = status;
     if (leaf) out.trajectory = trajectory_from_tree(sys, *prop, tree, *leaf, p);
     source.finish(out);
     lowest.report(sys, out);
+    if (refused > 0) out.metrics["refused_candidates"] = refused;
     if (ctx.trees) ctx.trees->add(0, tree);  // --save-trees: after the search, a copy
     return out;
   };
   if (starts_unsafe(sys, info.initial_mode, info.initial_state, p)) return finish(root, TrialStatus::falsified);
+  // The new node r (added): true when the search ends at it, falsified. An STL falsification
+  // counts once the witness validator confirms it, as the optimisers' (optimizers.cpp,
+  // confirmed()): a node whose samples violate but whose re-simulation does not (a bound within
+  // the sampling error of 0: CC2's -0.077 at 0.05 s steps, +0.093 re-simulated) is refused, stays
+  // a leaf (commit() left it out of the index, and it is not in the tournament), and the search
+  // goes on. Otherwise r is indexed for robustness guidance unless settled.
+  const auto falsifies = [&](const RrtExtensionResult& r, const RrtExtension& from) {
+    if (r.reached_unsafe && info.requirement) {
+      const ValidationReport v =
+          validate_witness(sys, make_witness(sys, "", 0, trajectory_from_tree(sys, *prop, tree, r.node, p)));
+      if (!v.valid) {
+        ++refused;
+        lowest.refused(v.robustness ? std::max(*v.robustness, 0.0) : 0.0);
+        return false;
+      }
+    }
+    lowest.saw(r, from);
+    if (!r.settled && !r.reached_unsafe) guided.indexed(r.node);
+    return r.reached_unsafe;
+  };
 
   if (batch > 1) {
     // One scratch per slot: its step (input grid, state buffers), propagator and counters.
@@ -220,10 +246,8 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
         if (c.nodes >= ctx.limits.max_nodes) return finish(std::nullopt, TrialStatus::node_cap);
         const RrtExtensionResult r = slots[s]->step.commit(tree, nn, c);
         if (!r.added()) continue;
-        lowest.saw(r, slots[s]->step);
-        if (!r.settled) guided.indexed(r.node);
         source.added(tree.state(r.node));
-        if (r.reached_unsafe) return finish(r.node, TrialStatus::falsified);
+        if (falsifies(r, slots[s]->step)) return finish(r.node, TrialStatus::falsified);
       }
     }
   }
@@ -238,10 +262,8 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
     step.propose(tree, near, *prop, x_rand, p, rng, c, from.has_value());
     const RrtExtensionResult r = step.commit(tree, nn, c);
     if (!r.added()) continue;
-    lowest.saw(r, step);
-    if (!r.settled) guided.indexed(r.node);
     source.added(tree.state(r.node));
-    if (r.reached_unsafe) return finish(r.node, TrialStatus::falsified);
+    if (falsifies(r, step)) return finish(r.node, TrialStatus::falsified);
   }
 }
 
