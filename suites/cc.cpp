@@ -40,12 +40,12 @@
 //  - `interpolation` = hermite (default): a shift is located on the step's cubic Hermite
 //    interpolant (exact in Chasing and Keeping), directly on the cubic that a gap guard is along
 //    it (guards_affine), by Newton's method from the secant estimate (1.4 steps per shift,
-//    core/root_bracket.hpp), the earliest by its secant estimate first: @SIM@ ms per simulation
-//    (@MON@ ms with CC1's robustness) against 1.22 ms for `restep` (BM_SimulateCc), robustness
-//    equal to 1e-4 on random inputs (tests/test_cc.cpp). `restep` locates shifts on RK4 re-steps from the step's start
-//    with toms748, as in every other suite and as every CC result stored before 2026-12-05 was
-//    made: it is left out of the instance key (those keys keep meaning re-steps), and the default
-//    is keyed. Robustness-guided RRT grows the same trees with either (its choices treat bounds
+//    core/root_bracket.hpp), the earliest by its secant estimate first: 0.43 ms per simulation
+//    (0.46 ms with CC1's robustness) against 1.17-1.21 ms for `restep` (BM_SimulateCc),
+//    robustness equal to 1e-4 on random inputs (tests/test_cc.cpp). `restep` locates shifts on
+//    RK4 re-steps from the step's start with toms748, as in every other suite and as every CC
+//    result stored before 2026-12-05 was made: it is left out of the instance key (those keys
+//    keep meaning re-steps), and the default is keyed. Robustness-guided RRT grows the same trees with either (its choices treat bounds
 //    equal up to rounding as ties, rrt_loop.hpp; tests/test_cc.cpp): before that, they turned on
 //    the last bits, and on CC1 with 7.5 s pieces rrt falsified 39 of 80 runs with hermite against
 //    79 of 80 with re-steps.
