@@ -69,7 +69,7 @@ std::pair<double, double> bracket_root(F&& f, double a, double b, double fa, dou
 // regula falsi has one per point and needs more points. After a step s from x, Newton's error
 // is about |p''| s² / (2 |p'|); once that is below tol/10 the root lies far inside
 // [x - 0.4 tol, x + 0.4 tol], which is checked by two evaluations and returned (on the chasing
-// cars' shift guards: 1.3 steps per localization). A step leaving (a, b), a flat p', no bracket
+// cars' shift guards: 1.4 steps per localization). A step leaving (a, b), a flat p', no bracket
 // within 6 steps hands over to bracket_root(), so the contract is bracket_root's.
 inline std::pair<double, double> bracket_cubic_root(double c0, double c1, double c2, double c3, double a, double b,
                                                     double fa, double fb, double tol) {

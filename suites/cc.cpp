@@ -45,10 +45,10 @@
 //    robustness equal to 1e-4 on random inputs (tests/test_cc.cpp). `restep` locates shifts on
 //    RK4 re-steps from the step's start with toms748, as in every other suite and as every CC
 //    result stored before 2026-12-05 was made: it is left out of the instance key (those keys
-//    keep meaning re-steps), and the default is keyed. Robustness-guided RRT grows the same trees with either (its choices treat bounds
-//    equal up to rounding as ties, rrt_loop.hpp; tests/test_cc.cpp): before that, they turned on
-//    the last bits, and on CC1 with 7.5 s pieces rrt falsified 39 of 80 runs with hermite against
-//    79 of 80 with re-steps.
+//    keep meaning re-steps), and the default is keyed. Robustness-guided RRT grows the same trees
+//    with either (its choices treat bounds equal up to rounding as ties, rrt_loop.hpp;
+//    tests/test_cc.cpp): before that, they turned on the last bits, and on CC1 with 7.5 s pieces
+//    rrt falsified 39 of 80 runs with hermite against 79 of 80 with re-steps.
 //  - δt (one tree extension, one input piece) = `step`, default 5 s. `input_instance` is ARCH-COMP's:
 //    1 (piecewise continuous inputs: any step) or 2 (piecewise constant, discontinuities at least
 //    5 s apart: step must be >= 5). The inputs are a held signal (SystemInfo::held_inputs): under

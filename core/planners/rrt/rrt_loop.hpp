@@ -20,14 +20,14 @@
 //
 // STL requirements (SystemInfo::requirement): the step falsifies when a node's prefix robustness
 // is bounded above by a negative number (rrt_extension.hpp) and the witness validator confirms
-// it (falsifies() below). Robustness guidance, `robustness_bias`
-// = β > 0 (Dreossi et al., NFM 2015, and FalStar's adaptive tree search bias the choice of node
-// by robustness in the same spirit): each step (each slot) first draws a coin from its stream;
-// with probability β it extends the node that wins a tournament of kTournament nodes drawn
-// uniformly from the indexed (not settled) nodes, the lowest upper bound winning, with the input
-// whose new node has the lowest upper bound; otherwise it is the plain step. Both choices treat
-// bounds equal up to rounding as ties (EdgeMonitor::tie_ceiling): the first drawn node, the
-// input nearest to x_rand. β = 0 draws nothing (the paper's RRT, bit for bit).
+// it (falsifies() below). Robustness guidance, `robustness_bias` = β > 0 (Dreossi et al., NFM
+// 2015, and FalStar's adaptive tree search bias the choice of node by robustness in the same
+// spirit): each step (each slot) first draws a coin from its stream; with probability β it
+// extends the node that wins a tournament of kTournament nodes drawn uniformly from the indexed
+// (not settled) nodes, the lowest upper bound winning, with the input whose new node has the
+// lowest upper bound; otherwise it is the plain step. Both choices treat bounds equal up to
+// rounding as ties (EdgeMonitor::tie_ceiling): the first drawn node, the input nearest to
+// x_rand. β = 0 draws nothing (the paper's RRT, bit for bit).
 #pragma once
 #include <algorithm>
 #include <array>
