@@ -175,10 +175,14 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   guided.indexed(root);
   LowestRobustness lowest;
   std::int64_t refused = 0;
+  std::optional<Trajectory> confirmed;  // the falsifying node's trajectory, once the validator confirmed it
   c.nodes = 1;
   auto finish = [&](std::optional<NodeId> leaf, TrialStatus status) {
     out.status = status;
-    if (leaf) out.trajectory = trajectory_from_tree(sys, *prop, tree, *leaf, p);
+    if (confirmed)
+      out.trajectory = std::move(confirmed);
+    else if (leaf)
+      out.trajectory = trajectory_from_tree(sys, *prop, tree, *leaf, p);
     source.finish(out);
     lowest.report(sys, out);
     if (refused > 0) out.metrics["refused_candidates"] = refused;
@@ -194,13 +198,14 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   // goes on. Otherwise r is indexed for robustness guidance unless settled.
   const auto falsifies = [&](const RrtExtensionResult& r, const RrtExtension& from) {
     if (r.reached_unsafe && info.requirement) {
-      const ValidationReport v =
-          validate_witness(sys, make_witness(sys, "", 0, trajectory_from_tree(sys, *prop, tree, r.node, p)));
+      Trajectory t = trajectory_from_tree(sys, *prop, tree, r.node, p);
+      const ValidationReport v = validate_witness(sys, make_witness(sys, "", 0, t));
       if (!v.valid) {
         ++refused;
         lowest.refused(v.robustness ? std::max(*v.robustness, 0.0) : 0.0);
         return false;
       }
+      confirmed = std::move(t);
     }
     lowest.saw(r, from);
     if (!r.settled && !r.reached_unsafe) guided.indexed(r.node);
