@@ -75,6 +75,8 @@ void print_signals(const System& system) {
   for (const auto& s : stl::system_signals(system.info()))
     line += fmt::format("{}{}{}", line.empty() ? "" : ", ", s.name, s.unit.empty() ? "" : " [" + s.unit + "]");
   fmt::print("      signals: {}\n", line);
+  if (!system.info().input_aliases.empty())
+    fmt::print("      input CSV header (hyfal simulate): {}\n", cli::accepted_input_names(system.info()));
   for (const auto& r : system.info().requirements)
     fmt::print("      requirement {:<6} {}  ({})\n", r.id, r.formula, r.meaning);
 }

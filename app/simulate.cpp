@@ -1,5 +1,6 @@
 #include "app/simulate.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -77,8 +78,21 @@ std::string trace_csv(const SystemInfo& info, const stl::SimulatedTrace& trace) 
 
 }  // namespace
 
+std::string accepted_input_names(const std::vector<std::string>& inputs,
+                                 const std::vector<std::vector<std::string>>& aliases) {
+  std::string out = "time (or t)";
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    out += ", " + inputs[i];
+    if (i < aliases.size() && !aliases[i].empty()) out += fmt::format(" (or {})", fmt::join(aliases[i], " or "));
+  }
+  return out;
+}
+
+std::string accepted_input_names(const SystemInfo& info) { return accepted_input_names(info.input_names, info.input_aliases); }
+
 std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std::vector<std::string>& inputs,
-                                             const Box& box, const std::string& where) {
+                                             const Box& box, const std::string& where,
+                                             const std::vector<std::vector<std::string>>& aliases) {
   std::istringstream in(text);
   std::string line;
   std::vector<std::pair<double, std::vector<double>>> rows;
@@ -89,11 +103,19 @@ std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std:
     const std::vector<std::string> fields = split_fields(line);
     double t = 0.0;
     if (rows.empty() && row == 1 && !parse_number(fields[0], t)) {  // a header
-      const bool ok = fields.size() == inputs.size() + 1 && (lower(fields[0]) == "time" || lower(fields[0]) == "t");
-      bool names = ok;
-      for (std::size_t i = 0; ok && i < inputs.size(); ++i) names = names && fields[i + 1] == inputs[i];
-      if (!names)
-        throw UsageError(fmt::format("'{}': row 1: the header must be time,{}", where, fmt::join(inputs, ",")));
+      const auto names = [&](std::size_t i) {
+        std::vector<std::string> v{inputs[i]};
+        if (i < aliases.size()) v.insert(v.end(), aliases[i].begin(), aliases[i].end());
+        return v;
+      };
+      const auto is_one_of = [](const std::string& field, const std::vector<std::string>& accepted) {
+        return std::any_of(accepted.begin(), accepted.end(), [&](const std::string& a) { return lower(field) == lower(a); });
+      };
+      bool ok = fields.size() == inputs.size() + 1 && is_one_of(fields[0], {"time", "t"});
+      for (std::size_t i = 0; ok && i < inputs.size(); ++i) ok = is_one_of(fields[i + 1], names(i));
+      if (!ok)
+        throw UsageError(fmt::format("'{}': row 1: the header '{}' does not name the columns as expected: {}", where,
+                                     one_line(line), accepted_input_names(inputs, aliases)));
       continue;
     }
     if (fields.size() != inputs.size() + 1)
@@ -130,8 +152,30 @@ int cmd_simulate(const SimulateArgs& args) {
   const auto system = make_system(args.suite, args.sets);
   const SystemInfo& info = system->info();
   const auto pieces = parse_input_csv(read_input_file(args.input), info.input_names, system->inputs(info.initial_mode).box,
-                                      args.input);
+                                      args.input, info.input_aliases);
   const stl::SimulatedTrace trace = stl::simulate_inputs(*system, pieces, info.parameters);
+  // Every verdict before anything is written: a requirement asked for by name that the trace
+  // cannot decide is refused.
+  struct Row {
+    std::string name;
+    stl::TraceVerdict verdict;
+  };
+  std::vector<Row> rows;
+  const double end = trace.time.back();
+  for (const auto& d : info.requirements) {
+    const stl::Requirement requirement = stl::resolve_requirement(info, d.id);
+    rows.push_back({d.id, stl::TraceMonitor(requirement).judge(trace)});
+  }
+  if (info.requirement) {
+    const stl::Requirement& asked = *info.requirement;
+    const stl::TraceVerdict verdict = stl::TraceMonitor(asked).judge(trace);
+    if (!verdict.complete && !verdict.decided())
+      throw UsageError(fmt::format("'{}': the trace ends at {:.6g} s, but requirement {} reads {:.6g} s (its horizon): "
+                                   "its verdict is unknown; give an input signal of at least {:.6g} s",
+                                   args.input, end, asked.id.empty() ? "'" + one_line(asked.text) + "'" : asked.id,
+                                   verdict.horizon, verdict.horizon));
+    if (asked.id.empty()) rows.push_back({"(--set requirement)", verdict});
+  }
   if (!args.trace.empty()) {
     if (args.trace == "-")
       std::cout << trace_csv(info, trace);
@@ -139,17 +183,23 @@ int cmd_simulate(const SimulateArgs& args) {
       write_file_atomic(args.trace, trace_csv(info, trace), "trace");
   }
   std::ostream& out = args.trace == "-" ? std::cerr : std::cout;
-  out << fmt::format("{} samples over [0, {:.6g}] s{}\n", trace.samples(), trace.time.back(),
+  out << fmt::format("{} samples over [0, {:.6g}] s{}\n", trace.samples(), end,
                      trace.end == PropagationEnd::invariant  ? " (the system's invariant ended it early)"
                      : trace.end == PropagationEnd::rejected ? " (rejected: a non-finite state or a Zeno chain)"
                                                              : "");
   out << "| requirement | robustness | falsified |\n|---|--:|---|\n";
-  std::vector<std::pair<std::string, std::string>> requirements;
-  for (const auto& d : info.requirements) requirements.emplace_back(d.id, d.id);
-  if (info.requirement && info.requirement->id.empty()) requirements.emplace_back("(--set requirement)", info.requirement->text);
-  for (const auto& [name, value] : requirements) {
-    const double rho = stl::trace_robustness(stl::resolve_requirement(info, value), trace);
-    out << fmt::format("| {} | {:.6g} | {} |\n", name, rho, rho < 0.0 ? "yes" : "no");
+  for (const auto& [name, v] : rows) {
+    if (v.complete) {
+      out << fmt::format("| {} | {:.6g} | {} |\n", name, v.bounds.lower, v.falsified() ? "yes" : "no");
+      continue;
+    }
+    // A prefix: every extension's robustness lies in the interval shown.
+    const std::string bounds = fmt::format("[{:.6g}, {:.6g}]", v.bounds.lower, v.bounds.upper);
+    if (v.decided())
+      out << fmt::format("| {} | {} | {} (decided by the {:.6g} s given; the horizon is {:.6g} s) |\n", name, bounds,
+                         v.falsified() ? "yes" : "no", end, v.horizon);
+    else
+      out << fmt::format("| {} | {} | unknown: trace too short (needs {:.6g} s) |\n", name, bounds, v.horizon);
   }
   return 0;
 }

@@ -6,7 +6,14 @@
 // suite's input order; a header row is optional (`time` or `t`, then the input names). Row k's
 // inputs hold from its time to the next row's (piecewise constant); the last row's time ends the
 // simulation (its inputs are not used). Times start at 0 and increase; values lie in the inputs'
-// box. Anything else: one line naming the row and column, exit 2, nothing written.
+// box. The header may name an input by its name or by an alias the suite declares
+// (SystemInfo::input_aliases: `time,throttle,brake` for at). Anything else: one line naming the
+// row and column, exit 2, nothing written.
+//
+// Each requirement is judged on the trace (core/requirements/simulate.hpp, TraceVerdict): a
+// trace shorter than a requirement's horizon is a prefix, shown with its robustness interval and
+// the verdict it decides, else "unknown: trace too short". A requirement given with
+// --set requirement=X that such a trace cannot decide is an error (exit 2, nothing written).
 #pragma once
 #include <string>
 #include <vector>
@@ -27,9 +34,16 @@ int cmd_simulate(const SimulateArgs& args);
 // `hyfal witness FILE --format arch-csv [-o OUT]`.
 int cmd_witness_csv(const std::string& file, const std::string& output);
 
-// The pieces of an input CSV's text for a system with `inputs` (names) inside `box`; throws
-// UsageError naming `where`, the row and the column.
+// The pieces of an input CSV's text for a system with `inputs` (names, each also called by its
+// `aliases`, which may be empty) inside `box`; throws UsageError naming `where`, the row and the
+// column.
 std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std::vector<std::string>& inputs,
-                                             const Box& box, const std::string& where);
+                                             const Box& box, const std::string& where,
+                                             const std::vector<std::vector<std::string>>& aliases = {});
+
+// The names an input CSV's header may give its columns, as `time (or t), u1 (or throttle), ...`.
+std::string accepted_input_names(const std::vector<std::string>& inputs,
+                                 const std::vector<std::vector<std::string>>& aliases);
+std::string accepted_input_names(const SystemInfo& info);
 
 }  // namespace hyfal::cli

@@ -304,6 +304,9 @@ struct SystemInfo {
   // (null: reachability of s <= 0; set from the `requirement` instance parameter).
   std::vector<SignalInfo> outputs;
   std::vector<std::string> input_units;
+  // Other names of each input (empty, or one list per input): the words the benchmark's own
+  // description uses (ARCH-COMP's `throttle`, `brake`), which an input CSV's header may give.
+  std::vector<std::vector<std::string>> input_aliases;
   std::vector<DeclaredRequirement> requirements;
   std::shared_ptr<const stl::Requirement> requirement;
   std::size_t dim() const { return initial_state.size(); }

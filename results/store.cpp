@@ -385,6 +385,121 @@ bool path_exists(const std::string& path) {
   return std::filesystem::exists(path, ignored);
 }
 
+// Whether a rollback journal that may be hot lies beside the database: one that starts with
+// SQLite's journal magic (sqlite.org/fileformat.html §4.1; a committed journal in PERSIST mode
+// has its header zeroed). A process killed inside a write transaction in rollback-journal mode
+// leaves one: the switch of a new database to WAL is such a transaction.
+bool may_have_hot_journal(const std::string& path) {
+  static constexpr unsigned char kMagic[8] = {0xd9, 0xd5, 0x05, 0xf9, 0x20, 0xa1, 0x63, 0xd7};
+  std::ifstream in(path + "-journal", std::ios::binary);
+  unsigned char magic[8] = {};
+  in.read(reinterpret_cast<char*>(magic), sizeof magic);
+  return in.gcount() == sizeof magic && std::memcmp(magic, kMagic, sizeof magic) == 0;
+}
+
+// Whether this process may write the file at path and create files beside it (a journal).
+bool may_write_file_and_folder(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::absolute(std::filesystem::path(path)).parent_path();
+  return ::access(path.c_str(), W_OK) == 0 && ::access(parent.c_str(), W_OK | X_OK) == 0;
+}
+
+[[noreturn]] void throw_unfinished_transaction(const std::string& path) {
+  throw StoreError(StoreErrorKind::environment,
+                   fmt::format("cannot open results database '{}': a process killed while writing it left an "
+                               "unfinished transaction ('{}-journal'), which only a user who may write the file "
+                               "and its folder can roll back (any hyfal run or table does)",
+                               path, path),
+                   SQLITE_READONLY_ROLLBACK);
+}
+
+// Rolls back a hot journal of the database at path before anything reads it: SQLite does so on
+// the first read of a connection that may write the file, while a read-only connection (the
+// schema check, a reader) fails on it with SQLITE_READONLY_ROLLBACK ("attempt to write a
+// readonly database") for as long as the journal stays. The rollback undoes a transaction that
+// never committed, so the file returns to its last committed state: it restores what the
+// database holds and changes nothing of it, whatever the file is. A journal that is not hot
+// (its writer is alive and holds its lock) is left to its writer. Where this process may not
+// write the file, throws StoreError naming the journal.
+void roll_back_hot_journal(const std::string& path) {
+  if (!may_have_hot_journal(path)) return;
+  if (!may_write_file_and_folder(path)) throw_unfinished_transaction(path);
+  sqlite3* raw = nullptr;
+  if (sqlite3_open_v2(sqlite_uri(path, "mode=rw").c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_URI, nullptr) ==
+      SQLITE_OK) {
+    sqlite3_busy_timeout(raw, kBusyTimeoutMs);
+    // The read's own failure (not a database after all, locked) is reported by the checks after it.
+    sqlite3_exec(raw, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  }
+  sqlite3_close_v2(raw);
+}
+
+// Writes a complete, empty hyfal database (the schema, schema_version, WAL mode) to the missing
+// path in one step, so that a process killed at any instant leaves no file there or a whole
+// one, never a half-created database. The schema is built in memory and serialized; WAL mode is
+// the file-format version bytes 18 and 19 set to 2 (sqlite.org/fileformat.html §1.3.3: what
+// `PRAGMA journal_mode = WAL` writes); the image goes to an unnamed file in path's folder
+// (O_TMPFILE), is synced, and is linked into place. link never replaces a file: if another
+// process created the database first, its database stays and is used. Returns true when a
+// database is at path now; false where the file system cannot do this (no O_TMPFILE, no hard
+// links), and the caller then creates the database in place.
+bool create_database_file(const std::string& path) {
+  sqlite3* memory = nullptr;
+  if (sqlite3_open_v2(":memory:", &memory, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
+    sqlite3_close_v2(memory);
+    return false;
+  }
+  RawConnection built(memory, &sqlite3_close_v2);
+  const std::string what = fmt::format("cannot create the schema of results database '{}'", path);
+  execute(memory, kSchemaSql, what);
+  sqlite3_int64 size = 0;
+  std::unique_ptr<unsigned char, decltype(&sqlite3_free)> image(sqlite3_serialize(memory, "main", &size, 0),
+                                                                &sqlite3_free);
+  if (!image || size < 100) return false;
+  image.get()[18] = 2;  // file format write version: WAL
+  image.get()[19] = 2;  // file format read version: WAL
+
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  const int fd = ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+  if (fd < 0) return false;  // EOPNOTSUPP, EISDIR (no O_TMPFILE), ...
+  const auto close_fd = [&] { ::close(fd); };
+  std::size_t written = 0;
+  while (written < static_cast<std::size_t>(size)) {
+    const ssize_t n = ::write(fd, image.get() + written, static_cast<std::size_t>(size) - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = errno;
+      close_fd();
+      const bool machine = n < 0 && (error == ENOSPC || error == EIO || error == EDQUOT);
+      if (machine)
+        throw StoreError(StoreErrorKind::environment,
+                         fmt::format("cannot create results database '{}': {}", path, std::strerror(error)));
+      return false;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    const int error = errno;
+    close_fd();
+    throw StoreError(StoreErrorKind::environment,
+                     fmt::format("cannot create results database '{}': {}", path, std::strerror(error)));
+  }
+  const std::string self = fmt::format("/proc/self/fd/{}", fd);
+  int linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, path.c_str(), AT_SYMLINK_FOLLOW);
+  if (linked != 0 && errno != EEXIST) linked = ::linkat(fd, "", AT_FDCWD, path.c_str(), AT_EMPTY_PATH);
+  const int error = errno;
+  close_fd();
+  if (linked != 0 && error != EEXIST) return false;  // no /proc, no hard links here
+  if (linked == 0) {
+    const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir >= 0) {
+      ::fsync(dir);  // the new name survives a power loss as the file's content does
+      ::close(dir);
+    }
+  }
+  return true;
+}
+
 // A regular, non-empty file, checked before SQLite sees it; false for a missing or empty file.
 // Throws StoreError (bad_input) for a directory or something else that is no file.
 bool existing_database_file(const std::string& path) {
@@ -397,6 +512,9 @@ bool existing_database_file(const std::string& path) {
                      fmt::format("'{}' is a directory, not a results database", path));
   if (!std::filesystem::is_regular_file(status))
     throw StoreError(StoreErrorKind::bad_input, fmt::format("'{}' is not a regular file", path));
+  // Before the header is read and before any read-only connection, which fails on a hot journal
+  // (read as immutable, it would read the half-written file).
+  roll_back_hot_journal(path);
   const auto size = std::filesystem::file_size(path, error);
   if (error)
     throw StoreError(StoreErrorKind::environment,
@@ -453,8 +571,7 @@ class ReadOnlyConnection {
 
 ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
   const std::string wal = path + "-wal";
-  const std::filesystem::path parent = std::filesystem::absolute(std::filesystem::path(path)).parent_path();
-  const bool writable = ::access(path.c_str(), W_OK) == 0 && ::access(parent.c_str(), W_OK) == 0;
+  const bool writable = may_write_file_and_folder(path);
   // Without a -wal file no connection has the database open, and one that cannot write it
   // cannot become a writer: reading it as immutable (no locks, no -shm) is then exact.
   const bool immutable = !path_exists(wal) && !writable;
@@ -471,6 +588,15 @@ ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
     wal_files_.disarm();
   } else if ((rc & 0xff) == SQLITE_NOTADB) {
     throw_not_hyfal(path, sqlite3_errmsg(connection_.get()));
+  } else if (rc == SQLITE_READONLY_ROLLBACK) {
+    throw_unfinished_transaction(path);  // a writer killed just now: its journal came after the roll-back
+  } else if ((rc & 0xff) == SQLITE_READONLY) {
+    // Never "attempt to write a readonly database" for a reader: say what SQLite wanted to write.
+    throw StoreError(StoreErrorKind::environment,
+                     fmt::format("cannot read results database '{}': SQLite must write beside it to read it "
+                                 "(its -wal/-shm files) and may not ({})",
+                                 path, sqlite3_errmsg(connection_.get())),
+                     rc);
   } else if (rc != SQLITE_OK) {
     throw_sqlite_error(connection_.get(), fmt::format("cannot open results database '{}'", path));
   }
@@ -675,12 +801,21 @@ TrialStore TrialStore::open(const std::string& path) {
 }
 
 TrialStore TrialStore::open_once(const std::string& path) {
-  if (existing_database_file(path)) {
-    // Check first, reading only: a file that is not a hyfal database is never written to.
+  // A missing database is created whole before anything opens it (a kill at any instant leaves
+  // none or a complete one); an empty file, or a file system without O_TMPFILE or hard links,
+  // gets its schema in place below, where a kill can leave a hot journal, rolled back at the
+  // next open (ReadOnlyConnection).
+  bool existing = existing_database_file(path);
+  if (!existing && !path_exists(path)) {
+    create_parent_directories(path);
+    // Re-read: what is at path now is ours or another process's (a dangling link stays missing).
+    if (create_database_file(path)) existing = existing_database_file(path);
+  }
+  if (existing) {
+    // Check first, reading only: a file that is not a hyfal database is never written to (a hot
+    // journal's roll-back restores it, see roll_back_hot_journal).
     const ReadOnlyConnection check(path);  // closed (and its -wal/-shm removed) at the end of this block
     check_hyfal_schema(check.get(), path);
-  } else {
-    create_parent_directories(path);
   }
   RawConnection raw =
       open_connection(path, sqlite_uri(path, "mode=rwc"), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_URI);

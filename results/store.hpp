@@ -92,11 +92,14 @@ enum class TrialProgress {
 // WAL mode plus a 5 s busy timeout lets them take turns.
 class TrialStore {
  public:
-  // Opens the database at path for writing. A missing path or an empty file (or a SQLite
-  // database without any table) is created with the schema, with its parent directories. Any
-  // other file is first opened read-only and checked to be a hyfal results database of schema
-  // version 1 (tables meta, trials and series with hyfal's columns); only then is it opened for
-  // writing, so a file that is not one is never changed. Throws StoreError: bad_input for a file
+  // Opens the database at path for writing. A missing path is created with its parent
+  // directories as a complete database in one step (built unnamed, then linked into place), so a
+  // process killed at any instant leaves no database or a whole one. An empty file (or a SQLite
+  // database without any table) gets the schema in place. A hot journal that a killed writer
+  // left is rolled back first (as SQLite would on any read-write open: the file returns to its
+  // last commit). Any other file is first opened read-only and checked to be a hyfal results
+  // database of schema version 1 (tables meta, trials and series with hyfal's columns); only
+  // then is it opened for writing, so a file that is not one is never changed. Throws StoreError: bad_input for a file
   // that is not a hyfal database, an unsupported schema version, a directory or an empty path;
   // environment when a usable path cannot be opened (I/O, disk full, locked, permissions).
   static TrialStore open(const std::string& path);
@@ -110,7 +113,9 @@ class TrialStore {
   // commit). Where WAL would need a -shm file that cannot be created (read-only folder), or the
   // file is read-only and no writer has it open, it is read as immutable. -wal/-shm files that
   // opening created are removed when the store closes, unless another connection uses them by
-  // then (SQLite removes them at that connection's close). The write methods (insert, claim, ...)
+  // then (SQLite removes them at that connection's close). A hot journal is rolled back first
+  // where this process may write the file (else a StoreError names it: read as immutable, the
+  // half-written file would be read). The write methods (insert, claim, ...)
   // must not be called on it (std::logic_error). Throws StoreError like open().
   static TrialStore open_read_only(const std::string& path);
 

@@ -202,6 +202,7 @@ std::shared_ptr<const System> make_cc(const Json& instance) {
   info.state_names.push_back("t");
   info.input_names = {"u1", "u2"};
   info.input_units = {"", ""};
+  info.input_aliases = {{"throttle"}, {"brake"}};  // ARCH-COMP's names (the header's leader)
   for (int i = 1; i <= kCars; ++i) info.outputs.push_back({fmt::format("y{}", i), "m", fmt::format("position of car {}", i)});
   info.requirements = cc_requirements();
   info.initial_mode = 0;  // every follower Chasing

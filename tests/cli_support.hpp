@@ -115,9 +115,10 @@ constexpr const char* kMemoryCap = "ulimit -v 8388608 && ";
 constexpr int kSlowdown = 1;
 #endif
 
-// launcher (ending in a space) runs before the binary, e.g. to drop privileges.
+// launcher (ending in a space) runs before the binary, e.g. to drop privileges; binary: another
+// hyfal build than the one under test (an older one, to show a defect).
 inline Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args& args, int time_cap_s = 120,
-                        const std::string& launcher = "") {
+                        const std::string& launcher = "", const std::string& binary = HYFAL_BIN) {
   static std::atomic<int> counter{0};
   fs::create_directories(io_dir);
   const int n = counter++;
@@ -132,7 +133,7 @@ inline Result run_hyfal(const fs::path& cwd, const fs::path& io_dir, const Args&
   cmd += "timeout -s KILL ";
   cmd += std::to_string(time_cap_s * kSlowdown);  // a safety net, not a speed assertion
   cmd += ' ';
-  cmd += quote(HYFAL_BIN);
+  cmd += quote(binary);
   for (const auto& a : args) {
     cmd += ' ';
     cmd += quote(a);

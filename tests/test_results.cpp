@@ -330,6 +330,85 @@ TEST_F(TrialStoreTest, UsesWalAndRecordsSchemaVersion) {
             "1");
 }
 
+// A child process that dies inside a write transaction in rollback-journal mode, its dirty pages
+// spilled to the file (a cache of two pages), leaves the file half-written beside a hot journal:
+// what a run killed while its new database switched to WAL left behind (issue 39).
+void die_inside_a_write(const std::string& path) {
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    sqlite3* connection = nullptr;
+    if (sqlite3_open(path.c_str(), &connection) != SQLITE_OK) ::_exit(1);
+    const auto run = [&](const char* sql) {
+      if (sqlite3_exec(connection, sql, nullptr, nullptr, nullptr) != SQLITE_OK) ::_exit(2);
+    };
+    run("PRAGMA journal_mode = DELETE");
+    run("PRAGMA cache_size = 2");
+    run("BEGIN IMMEDIATE");
+    run("CREATE TABLE filler (x)");
+    for (int i = 0; i < 200; ++i) run("INSERT INTO filler VALUES (randomblob(2000))");
+    ::_exit(0);  // no COMMIT, no close: as SIGKILL would leave it
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  ASSERT_TRUE(fs::exists(path + "-journal")) << "the child left no journal";
+}
+
+// A run killed while it created its database left a hot journal that the read-only schema check
+// could not roll back: every later open failed with "attempt to write a readonly database".
+TEST_F(TrialStoreTest, ADatabaseWhoseCreationWasKilledOpensAgain) {
+  die_inside_a_write(database_path());
+  ASSERT_GT(fs::file_size(database_path()), 0u);
+  {
+    TrialStore store = TrialStore::open(database_path());
+    store.insert(make_record("rrt", 0));
+  }
+  EXPECT_FALSE(fs::exists(database_path() + "-journal"));
+  EXPECT_EQ(TrialStore::open_read_only(database_path()).load().size(), 1u);
+  EXPECT_EQ(query_text(database_path(), "PRAGMA journal_mode"), "wal");
+}
+
+// A reader (hyfal table) on a database with a hot journal rolls it back and reads the last
+// commit, instead of failing with "attempt to write a readonly database".
+TEST_F(TrialStoreTest, AReaderRollsBackAHotJournalAndReadsTheLastCommit) {
+  {
+    TrialStore store = TrialStore::open(database_path());
+    store.insert(make_record("rrt", 0));
+    store.insert(make_record("rrt", 1));
+  }
+  die_inside_a_write(database_path());
+  try {
+    EXPECT_EQ(TrialStore::open_read_only(database_path()).load().size(), 2u);
+  } catch (const StoreError& e) {
+    ADD_FAILURE() << e.what();
+  }
+  EXPECT_FALSE(fs::exists(database_path() + "-journal"));
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM sqlite_master WHERE name = 'filler'"), "0");
+  TrialStore store = TrialStore::open(database_path());  // and a writer goes on with it, in WAL mode
+  store.insert(make_record("rrt", 2));
+  EXPECT_EQ(store.load().size(), 3u);
+  EXPECT_EQ(query_text(database_path(), "PRAGMA journal_mode"), "wal");
+}
+
+// A new database is created whole (built unnamed, linked into place): in WAL mode and with its
+// schema before any other process can see the file.
+TEST_F(TrialStoreTest, ANewDatabaseAppearsWithItsSchemaInWalMode) {
+  const std::string path = (directory_ / "sub" / "new.db").string();
+  TrialStore store = TrialStore::open(path);
+  std::ifstream in(path, std::ios::binary);
+  char header[20] = {};
+  in.read(header, sizeof header);
+  EXPECT_EQ(header[18], 2);  // file format write and read versions: WAL
+  EXPECT_EQ(header[19], 2);
+  EXPECT_EQ(query_text(path, "SELECT count(*) FROM sqlite_master WHERE type = 'table'"), "4");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(directory_ / "sub")) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names.front(), "new.db");  // and no temporary file beside it (-wal/-shm of the open store aside)
+  for (const auto& name : names) EXPECT_EQ(name.rfind("new.db", 0), 0u) << name;
+}
+
 TEST_F(TrialStoreTest, StoresSeriesOfATrial) {
   auto store = TrialStore::open(database_path());
   const std::int64_t trial_id = store.insert(make_record("rrt", 0));

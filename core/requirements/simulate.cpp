@@ -1,5 +1,6 @@
 #include "core/requirements/simulate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -146,6 +147,24 @@ double TraceMonitor::robustness(const SimulatedTrace& trace) {
   values_.clear();
   for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].end());
   return monitor_.robustness(TraceView{trace.time, values_});
+}
+
+TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) {
+  TraceVerdict v;
+  v.horizon = requirement_.formula.horizon();
+  const double end = trace.time.empty() ? 0.0 : trace.time.back();
+  // The pieces' durations are summed: a trace meant to end at the horizon may fall short of it
+  // by rounding.
+  v.complete = !std::isfinite(v.horizon) || end >= v.horizon - 1e-9 * std::max(1.0, v.horizon);
+  if (v.complete) {
+    const double rho = robustness(trace);
+    v.bounds = {rho, rho};
+  } else {
+    values_.clear();
+    for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].end());
+    v.bounds = monitor_.robustness_interval(TraceView{trace.time, values_}, false);
+  }
+  return v;
 }
 
 double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {

@@ -62,11 +62,27 @@ class InputSimulator {
   std::unique_ptr<Impl> impl_;
 };
 
+// What a trace says of a requirement. A trace that reaches the requirement's horizon gives
+// ρ(φ, 0) itself (bounds.lower == bounds.upper); so does any trace for a requirement without a
+// horizon (an unbounded operator): it is judged as it ends, as the searches judge theirs. A
+// shorter trace is a prefix: its bounds hold ρ(φ, 0) of every extension (robustness.hpp), and
+// may decide the verdict all the same.
+struct TraceVerdict {
+  Interval bounds;
+  double horizon = 0.0;   // the requirement's (+inf: unbounded)
+  bool complete = true;   // the trace reaches the horizon
+  bool falsified() const { return bounds.upper < 0.0; }
+  bool satisfied() const { return bounds.lower >= 0.0; }
+  bool decided() const { return falsified() || satisfied(); }
+};
+
 // The robustness of traces of one system for one requirement, with its buffers kept.
 class TraceMonitor {
  public:
   explicit TraceMonitor(const Requirement& requirement);
+  // ρ(φ, 0) of the trace as it ends (whatever the horizon).
   double robustness(const SimulatedTrace& trace);
+  TraceVerdict judge(const SimulatedTrace& trace);
 
  private:
   const Requirement& requirement_;
