@@ -1273,6 +1273,60 @@ TEST_F(CliTest, ReadOnlyDatabaseStopsRunAndTheFolderIsLeftAsItWas) {
   EXPECT_TRUE(folder_bytes(folder) == before) << "table changed the folder";
 }
 
+// Issue 39: a database beside the hot journal of a writer killed inside a transaction. Made by
+// copying the database and its journal while the sqlite3 tool holds a transaction open whose
+// pages spilled to the file (a cache of two pages): the copy is what a kill at that moment leaves.
+fs::path folder_with_hot_journal(const fs::path& folder, const fs::path& io_dir) {
+  const fs::path live = folder_with_database(folder.parent_path() / "live", io_dir, -1);
+  fs::create_directories(folder);
+  const std::string script =
+      "PRAGMA journal_mode = DELETE;\nPRAGMA cache_size = 2;\nBEGIN IMMEDIATE;\nCREATE TABLE filler (x);\n"
+      "WITH RECURSIVE c(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM c WHERE i < 200) "
+      "INSERT INTO filler SELECT randomblob(2000) FROM c;\n"
+      ".shell cp " + quote((live / "db.sqlite").string()) + " " + quote((folder / "db.sqlite").string()) + " && cp " +
+      quote((live / "db.sqlite-journal").string()) + " " + quote((folder / "db.sqlite-journal").string()) + "\n";
+  write_text(io_dir / "hot_journal.sql", script);
+  const std::string cmd = "sqlite3 -batch " + quote((live / "db.sqlite").string()) + " < " +
+                          quote((io_dir / "hot_journal.sql").string()) + " > /dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_TRUE(fs::exists(folder / "db.sqlite-journal"));
+  return folder;
+}
+
+// A reader on a database with a hot journal: where it may write the file it rolls the journal
+// back (the database returns to its last commit) and reads it; where it may not, one line names
+// the journal, exit 3, and the folder is left as it was. Never "attempt to write a readonly
+// database", which sent users to check permissions that were fine.
+TEST_F(CliTest, AHotJournalIsRolledBackByAReaderOrNamed) {
+  const fs::path writable = folder_with_hot_journal(work() / "writable", io());
+  const Result table = run_hyfal(writable, io(), {"table", "--db", "db.sqlite"});
+  EXPECT_EQ(table.code, 0) << table;
+  EXPECT_TRUE(contains(table.out, "| thermostat |")) << table;
+  EXPECT_FALSE(fs::exists(writable / "db.sqlite-journal"));
+  const Result run = run_hyfal(writable, io(), {"run", "--suite", "thermostat", "--trials", "3", "--threads", "1",
+                                                "--db", "db.sqlite", "--witness-dir", "wit", "--quiet"});
+  EXPECT_EQ(run.code, 0) << run;
+  EXPECT_EQ(sql(writable / "db.sqlite", "SELECT count(*) FROM trials").text, "3\n");
+
+  const fs::path locked = folder_with_hot_journal(work() / "locked", io());
+  fs::permissions(locked / "db.sqlite", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  std::string launcher;
+  if (geteuid() == 0) {
+    launcher = "setpriv --bounding-set=-dac_override,-dac_read_search ";
+    const std::string probe = "exec " + launcher + "sh -c 'test ! -w " + quote((locked / "db.sqlite").string()) + "' 2>/dev/null";
+    if (std::system(probe.c_str()) != 0) GTEST_SKIP() << "root, and setpriv cannot drop CAP_DAC_OVERRIDE here";
+  }
+  const auto before = folder_bytes(locked);
+  for (const Args& args : {Args{"table", "--db", "db.sqlite"}, kRunOnDb}) {
+    const Result r = run_hyfal(locked, io(), args, 120, launcher);
+    EXPECT_EQ(r.code, 3) << r;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r;
+    EXPECT_TRUE(contains(r.err, "db.sqlite-journal")) << r;
+    EXPECT_FALSE(contains(r.err, "readonly database")) << r;
+    EXPECT_TRUE(folder_bytes(locked) == before) << args[0] << " changed the folder";
+  }
+}
+
 }  // namespace
 
 namespace {
