@@ -386,9 +386,9 @@ bool path_exists(const std::string& path) {
 }
 
 // Whether a rollback journal that may be hot lies beside the database: one that starts with
-// SQLite's journal magic (sqlite.org/fileformat.html §4.1; a committed journal in PERSIST mode
-// has its header zeroed). A process killed inside a write transaction in rollback-journal mode
-// leaves one: the switch of a new database to WAL is such a transaction.
+// SQLite's journal magic (sqlite.org/fileformat.html, "The Rollback Journal"; a committed journal
+// in PERSIST mode has its header zeroed). A process killed inside a write transaction in
+// rollback-journal mode leaves one: the switch of a new database to WAL is such a transaction.
 bool may_have_hot_journal(const std::string& path) {
   static constexpr unsigned char kMagic[8] = {0xd9, 0xd5, 0x05, 0xf9, 0x20, 0xa1, 0x63, 0xd7};
   std::ifstream in(path + "-journal", std::ios::binary);
@@ -436,9 +436,9 @@ void roll_back_hot_journal(const std::string& path) {
 // Writes a complete, empty hyfal database (the schema, schema_version, WAL mode) to the missing
 // path in one step, so that a process killed at any instant leaves no file there or a whole
 // one, never a half-created database. The schema is built in memory and serialized; WAL mode is
-// the file-format version bytes 18 and 19 set to 2 (sqlite.org/fileformat.html §1.3.3: what
-// `PRAGMA journal_mode = WAL` writes); the image goes to an unnamed file in path's folder
-// (O_TMPFILE), is synced, and is linked into place. link never replaces a file: if another
+// the file-format version bytes 18 and 19 set to 2 (sqlite.org/fileformat.html, "File format
+// version numbers": what `PRAGMA journal_mode = WAL` writes); the image goes to an unnamed file
+// in path's folder (O_TMPFILE), is synced, and is linked into place. link never replaces a file: if another
 // process created the database first, its database stays and is used. Returns true when a
 // database is at path now; false where the file system cannot do this (no O_TMPFILE, no hard
 // links), and the caller then creates the database in place.
