@@ -551,10 +551,12 @@ void add_validate_command(CommandLine& c) {
 void add_simulate_command(CommandLine& c) {
   auto* s = c.simulate = c.app.add_subcommand(
       "simulate", "drive a suite instance with an input signal (ARCH-COMP CSV: time, then one column per input; "
-                  "piecewise constant); print each requirement's robustness, optionally write the trace");
+                  "piecewise constant); print each requirement's robustness (a trace shorter than a requirement's "
+                  "horizon: its robustness interval, and 'unknown' where that does not decide), optionally write the trace");
   s->add_option("--suite", c.simulate_args.suite, "suite name")->required();
   s->add_option("--set", c.simulate_args.sets, "instance parameter, key=value (repeatable; requirement=... adds one)");
-  s->add_option("--input", c.simulate_args.input, "the input CSV (a header row time,<inputs> is optional)")->required();
+  s->add_option("--input", c.simulate_args.input, "the input CSV (a header row time,<inputs> is optional; an input may go by its alias, e.g. time,throttle,brake "
+                "for at: see 'hyfal list')")->required();
   s->add_option("--trace", c.simulate_args.trace, "write the trace (time and every signal) as CSV to this file; - for stdout");
 }
 
