@@ -555,8 +555,10 @@ void add_simulate_command(CommandLine& c) {
                   "horizon: its robustness interval, and 'unknown' where that does not decide), optionally write the trace");
   s->add_option("--suite", c.simulate_args.suite, "suite name")->required();
   s->add_option("--set", c.simulate_args.sets, "instance parameter, key=value (repeatable; requirement=... adds one)");
-  s->add_option("--input", c.simulate_args.input, "the input CSV (a header row time,<inputs> is optional; an input may go by its alias, e.g. time,throttle,brake "
-                "for at: see 'hyfal list')")->required();
+  s->add_option("--input", c.simulate_args.input,
+                "the input CSV (a header row time,<inputs> is optional; an input may go by its alias, e.g. "
+                "time,throttle,brake for at: see 'hyfal list')")
+      ->required();
   s->add_option("--trace", c.simulate_args.trace, "write the trace (time and every signal) as CSV to this file; - for stdout");
 }
 

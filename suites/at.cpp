@@ -318,7 +318,8 @@ std::shared_ptr<const System> make_at(const Json& instance) {
   info.input_names = {"u1", "u2"};
   info.outputs = {{"y1", "mph", "speed"}, {"y2", "rpm", "engine speed"}, {"y3", "", "gear"}};
   info.input_units = {"%", "lb·ft"};
-  info.input_aliases = {{"throttle"}, {"brake"}};  // ARCH-COMP's names (the header's u)
+  // ARCH-COMP's names (the header's u), and the MathWorks reference trace's brake_torque.
+  info.input_aliases = {{"throttle"}, {"brake", "brake_torque"}};
   info.requirements = at_requirements();
   info.initial_mode = Transmission::mode_of(1, Transmission::kSteady);
   info.initial_state = {1000.0, 0.0, 0.0, 0.0};

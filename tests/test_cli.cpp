@@ -585,7 +585,11 @@ TEST_F(CliTest, SimulateJudgesATraceShorterThanTheHorizonAsAPrefix) {
   write_text(work() / "bad.csv", "time,gas,brake\n0,50,0\n10,50,0\n");
   const Result bad = hyfal({"simulate", "--suite", "at", "--input", "bad.csv"});
   EXPECT_EQ(bad.code, 2) << bad;
-  EXPECT_TRUE(contains(bad.err, "time (or t), u1 (or throttle), u2 (or brake)")) << bad;
+  EXPECT_TRUE(contains(bad.err, "time (or t), u1 (or throttle), u2 (or brake or brake_torque)")) << bad;
+  // The MathWorks reference trace's own names, any case.
+  write_text(work() / "ref.csv", "Time,Throttle,brake_torque\n0,60,0\n20,60,0\n");
+  const Result ref = hyfal({"simulate", "--suite", "at", "--input", "ref.csv"});
+  EXPECT_EQ(ref.code, 0) << ref;
 }
 
 // ---------------------------------------------------------------------------------------------

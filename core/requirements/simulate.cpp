@@ -143,11 +143,13 @@ SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece>
 
 TraceMonitor::TraceMonitor(const Requirement& requirement) : requirement_(requirement), monitor_(requirement.formula) {}
 
-double TraceMonitor::robustness(const SimulatedTrace& trace) {
+TraceView TraceMonitor::view(const SimulatedTrace& trace) {
   values_.clear();
   for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].end());
-  return monitor_.robustness(TraceView{trace.time, values_});
+  return TraceView{trace.time, values_};
 }
+
+double TraceMonitor::robustness(const SimulatedTrace& trace) { return monitor_.robustness(view(trace)); }
 
 TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) {
   TraceVerdict v;
@@ -160,9 +162,7 @@ TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) {
     const double rho = robustness(trace);
     v.bounds = {rho, rho};
   } else {
-    values_.clear();
-    for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].end());
-    v.bounds = monitor_.robustness_interval(TraceView{trace.time, values_}, false);
+    v.bounds = monitor_.robustness_interval(view(trace), false);
   }
   return v;
 }

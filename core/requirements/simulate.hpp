@@ -85,6 +85,8 @@ class TraceMonitor {
   TraceVerdict judge(const SimulatedTrace& trace);
 
  private:
+  // The requirement's signals of the trace, as the monitor reads them (in values_).
+  TraceView view(const SimulatedTrace& trace);
   const Requirement& requirement_;
   OfflineMonitor monitor_;
   std::vector<double> values_;
