@@ -93,7 +93,7 @@ PublishedTool read_published(const TomlReader& r, const toml::table& t, const st
 }
 
 TableProfile read_league_profile(const TomlReader& r, const toml::table& t, const std::string& path, const TableLeague& l) {
-  r.check_keys(t, path, {"trials", "timeout_s", "max_nodes", "settings", "rows"});
+  r.check_keys(t, path, {"trials", "timeout_s", "max_nodes", "settings", "rows", "column_settings"});
   TableProfile p = read_profile_caps(r, t, path);
   std::vector<const LeagueRow*> rows = all_of(l.rows);
   if (const auto* n = r.find(t, "rows")) {
@@ -106,6 +106,15 @@ TableProfile read_league_profile(const TomlReader& r, const toml::table& t, cons
   }
   if (const auto* s = r.find(t, "settings"))
     p.settings = read_cell_settings(r, *s, TomlReader::join(path, "settings"), rows, all_of(l.columns));
+  if (const auto* n = r.find(t, "column_settings")) {
+    const std::string at = TomlReader::join(path, "column_settings");
+    for (const auto& [key, value] : r.table(*n, at)) {
+      const std::string label(key.str());
+      const auto column = std::find_if(l.columns.begin(), l.columns.end(), [&](const LeagueColumn& c) { return c.label == label; });
+      if (column == l.columns.end()) r.fail(value, TomlReader::join(at, label), "not a column label of league.columns");
+      p.column_settings.emplace_back(label, read_cell_settings(r, value, TomlReader::join(at, label), rows, {&*column}));
+    }
+  }
   return p;
 }
 

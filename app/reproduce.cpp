@@ -89,6 +89,7 @@ ReportHeader make_header(const ReproduceArgs& a, const TableProfile& profile, co
   h.skip_after_all_stopped = profile.skip_after_all_stopped;
   h.max_nodes = profile.max_nodes;
   h.profile_settings = profile.settings;
+  h.column_settings = profile.column_settings;
   h.seed = a.seed;
   h.threads = a.threads > 0 ? a.threads : default_thread_count();
   h.host = eo.host;
@@ -264,6 +265,8 @@ int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const Tabl
       spec.settings = profile.settings;  // then the row's (the instance) and the column's (the method)
       overlay_settings(spec.settings, l.rows[i].settings);
       overlay_settings(spec.settings, l.columns[c].settings);
+      for (const auto& [label, settings] : profile.column_settings)
+        if (label == l.columns[c].label) overlay_settings(spec.settings, settings);
       spec.trials = profile.trials;
       spec.timeout_s = profile.timeout_s;
       spec.max_nodes = profile.max_nodes;

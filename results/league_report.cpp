@@ -108,6 +108,8 @@ std::string header_text(const LeagueReport& r, const ReportHeader& header) {
   md += fmt::format("- profile: {}: {} runs per cell, {}, node cap {}, master seed {}; profile settings: {}\n",
                     header.profile, header.trials, timeout_text(header), header.max_nodes, header.seed,
                     settings_text(header.profile_settings));
+  for (const auto& [label, settings] : header.column_settings)
+    md += fmt::format("- column {} in this profile: {}\n", label, settings_text(settings));
   md += fmt::format("- experiment: {}\n", header.experiment);
   md += run_lines(header);
   md += notes_line(r.notes);

@@ -141,6 +141,7 @@ struct ReportHeader {
   bool skip_after_all_stopped = false;
   std::int64_t max_nodes = 0;
   Settings profile_settings;
+  std::vector<std::pair<std::string, Settings>> column_settings;  // league: per column label (TableProfile)
   // The table's trials: how many, and their CPU seconds summed (what the table cost to make).
   std::size_t trials_run = 0;
   double cpu_s = 0.0;

@@ -32,7 +32,8 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   ASSERT_TRUE(t->league.has_value());
   const TableLeague& l = *t->league;
   EXPECT_EQ(l.rows.size(), 35u);
-  EXPECT_EQ(l.columns.size(), 6u);
+  EXPECT_EQ(l.columns.size(), 7u);
+  EXPECT_EQ(l.columns.back().method, "adaptive");
   EXPECT_EQ(l.rows.front().label, "AT1");
   EXPECT_EQ(l.rows.front().suite, "at");
   EXPECT_EQ(setting(l.rows.front().settings, "requirement"), "AT1");
@@ -48,6 +49,11 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   EXPECT_EQ(t->published->trials, 50);
   EXPECT_EQ(setting(t->published->settings, "budget"), "300");
   EXPECT_EQ(setting(t->published->settings, "step"), "7.5");
+  // FalStar's adaptive search on FalStar's own 1 s input grid, in the published profile only.
+  ASSERT_EQ(t->published->column_settings.size(), 1u);
+  EXPECT_EQ(t->published->column_settings.front().first, "adaptive (FalStar)");
+  EXPECT_EQ(setting(t->published->column_settings.front().second, "step"), "1");
+  EXPECT_TRUE(t->quick.column_settings.empty());
   // Every published cell names a row the published profile runs, so the comparison is shown.
   for (const PublishedTool& tool : l.published)
     for (const PublishedCell& c : tool.cells)
@@ -123,6 +129,11 @@ TEST(LeagueFile, ATinyLeagueReadsAndBadOnesAreRefusedInOneLineNamingTheKey) {
       {edited("rows = [\"B\"]", "rows = [\"Z\"]"), "profile.quick.rows[0]"},
       {edited("[profile.quick]", "[profile.paper]"), "profile.paper"},
       {edited("rows = [\n  {", "rowz = [\n  {"), "league.rowz"},
+      // A profile's column settings name a column, and that column's method or every row's suite takes them.
+      {edited("rows = [\"B\"]", "rows = [\"B\"]\ncolumn_settings = { nosuch = { budget = 5 } }"),
+       "profile.quick.column_settings.nosuch"},
+      {edited("rows = [\"B\"]", "rows = [\"B\"]\ncolumn_settings = { random = { robustness_bias = 0.1 } }"),
+       "profile.quick.column_settings.random.robustness_bias"},
   };
   for (const auto& [text, key] : bad) {
     const std::string m = refusal(text);

@@ -110,8 +110,9 @@ std::vector<StlCase> stl_cases() {
           {"cc", {{"step", "25"}, {"requirement", "CC3f"}}, 1500}};  // optimisers only (FalStar's setting)
 }
 
+// The signal searches (core/signal_search.hpp): the optimisers and FalStar's adaptive search.
 bool is_optimizer(const MethodEntry& m) {
-  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead";
+  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name == "adaptive";
 }
 
 // Whether an optimiser can take the case (check_system), known from the case itself: the thermostat's

@@ -1,5 +1,6 @@
 // The method registry: a new planner is one folder under core/planners/ plus one line here.
 #include "core/planner.hpp"
+#include "core/planners/adaptive/adaptive.hpp"
 #include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
 #include "core/planners/hydice/hydice.hpp"
 #include "core/planners/optimizers/optimizers.hpp"
@@ -24,6 +25,7 @@ const std::vector<MethodEntry>& all_methods() {
       simulated_annealing_method(),
       cmaes_method(),
       nelder_mead_method(),
+      adaptive_method(),
 #ifdef HYFAL_HAVE_OMPL  // last, so that a build without OMPL lists a prefix of the README's settings table
       ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method(),
 #endif

@@ -78,6 +78,7 @@ InputSimulator::InputSimulator(const System& system) : impl_(std::make_unique<Im
 InputSimulator::~InputSimulator() = default;
 void InputSimulator::set_interrupt(PropagationInterrupt interrupt) { impl_->prop->set_interrupt(std::move(interrupt)); }
 bool InputSimulator::interrupted() const { return impl_->prop->interrupted(); }
+const SimulatedTrace& InputSimulator::trace() const { return impl_->trace; }
 
 const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, std::span<const double> p) {
   const System& system = impl_->system;
@@ -97,6 +98,7 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   trace.problem.clear();
   trace.integration_steps = 0;
   trace.transitions = 0;
+  trace.piece_ends.clear();
   AllSignals sink(system, trace, p);
   Propagator& prop = *impl_->prop;
   prop.set_trace(&sink);
@@ -131,6 +133,7 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
     }
     q = e.result.mode;
     t = e.end_time;
+    trace.piece_ends.push_back(trace.time.size());
   }
   prop.set_trace(nullptr);
   return trace;
@@ -143,10 +146,11 @@ SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece>
 
 TraceMonitor::TraceMonitor(const Requirement& requirement) : requirement_(requirement), monitor_(requirement.formula) {}
 
-TraceView TraceMonitor::view(const SimulatedTrace& trace) {
+TraceView TraceMonitor::view(const SimulatedTrace& trace, std::size_t samples) {
+  const std::size_t n = std::min(samples, trace.time.size());
   values_.clear();
-  for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].end());
-  return TraceView{trace.time, values_};
+  for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].begin() + n);
+  return TraceView{std::span<const double>(trace.time).first(n), values_};
 }
 
 double TraceMonitor::robustness(const SimulatedTrace& trace) { return monitor_.robustness(view(trace)); }
@@ -165,6 +169,10 @@ TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) {
     v.bounds = monitor_.robustness_interval(view(trace), false);
   }
   return v;
+}
+
+Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t samples) {
+  return monitor_.robustness_interval(view(trace, samples), false);
 }
 
 double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {

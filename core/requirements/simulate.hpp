@@ -36,6 +36,10 @@ struct SimulatedTrace {
   std::string problem;
   std::int64_t integration_steps = 0;  // over every propagation, the interrupted one included
   std::int64_t transitions = 0;        // discrete transitions taken (mode switches, shifts)
+  // piece_ends[k]: the samples recorded by the end of input piece k (its last sample's index + 1),
+  // for every piece that flowed to its end; the samples after it belong to the next piece (a
+  // shift its new input causes at once included). The prefix of the first k + 1 pieces.
+  std::vector<std::size_t> piece_ends;
   std::size_t samples() const { return time.size(); }
 };
 
@@ -52,6 +56,8 @@ class InputSimulator {
   ~InputSimulator();
   // The trace of `pieces`, valid until the next run.
   const SimulatedTrace& run(std::span<const InputPiece> pieces, std::span<const double> p);
+  // The last run's trace (empty before the first).
+  const SimulatedTrace& trace() const;
   // A trial's deadline and cancellation, which also end a simulation in flight (its end is then
   // rejected and interrupted() true, for this run and every later one).
   void set_interrupt(PropagationInterrupt interrupt);
@@ -83,10 +89,14 @@ class TraceMonitor {
   // ρ(φ, 0) of the trace as it ends (whatever the horizon).
   double robustness(const SimulatedTrace& trace);
   TraceVerdict judge(const SimulatedTrace& trace);
+  // The robustness interval of the trace's first `samples` samples as a prefix (every
+  // extension's ρ(φ, 0) lies in it: robustness.hpp), e.g. up to a piece_ends entry.
+  Interval prefix_bounds(const SimulatedTrace& trace, std::size_t samples);
 
  private:
-  // The requirement's signals of the trace, as the monitor reads them (in values_).
-  TraceView view(const SimulatedTrace& trace);
+  // The requirement's signals of the trace's first `samples` samples (all: SIZE_MAX), as the
+  // monitor reads them (in values_).
+  TraceView view(const SimulatedTrace& trace, std::size_t samples = SIZE_MAX);
   const Requirement& requirement_;
   OfflineMonitor monitor_;
   std::vector<double> values_;

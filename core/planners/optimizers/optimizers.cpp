@@ -20,7 +20,8 @@
 // (pagmo's and the restarts' streams), evaluations in sequence: the same result at any thread
 // count. The witness is the falsifying signal replayed (stl::trajectory_of_inputs) and validated
 // like every other; the search stops only at a negative robustness the validator confirms (a
-// refused candidate, within the integration error of 0, lets it go on: confirmed()).
+// refused candidate, within the integration error of 0, lets it go on): core/signal_search.hpp,
+// which FalStar's adaptive search (core/planners/adaptive/) shares.
 #include "core/planners/optimizers/optimizers.hpp"
 
 #include <algorithm>
@@ -44,6 +45,7 @@
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/simulate.hpp"
 #include "core/rng.hpp"
+#include "core/signal_search.hpp"
 
 namespace hyfal {
 
@@ -51,53 +53,28 @@ namespace {
 
 enum class Optimizer { random, annealing, cmaes, nelder_mead };
 
-// Thrown out of an evaluation to end the optimiser's run (every library lets it through).
-struct SearchOver {
-  TrialStatus status;
-};
-
-// One simulation's scratch: its simulator (propagator and trace buffers), monitor and signal. The
-// objective has one; a batch of B evaluations has B (one per slot of parallel_slots).
-struct SimulationSlot {
-  SimulationSlot(const System& system, const stl::Requirement& requirement, std::vector<stl::InputPiece> pieces)
-      : simulator(system), monitor(requirement), pieces(std::move(pieces)) {}
-  stl::InputSimulator simulator;
-  stl::TraceMonitor monitor;
-  std::vector<stl::InputPiece> pieces;
-  // The last simulation: its robustness, work, end time, and whether it was cut short.
-  double rho = 0.0;
-  std::int64_t steps = 0;
-  double end_time = 0.0;
-  bool interrupted = false;
-  std::string problem;
-};
-
-// The robustness of the signal a decision vector encodes, counted against the budget.
+// The robustness of the signal a decision vector encodes, counted against the budget
+// (core/signal_search.hpp: the simulations, their count and the validator's confirmation).
 class RobustnessObjective {
  public:
   RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon)
-      : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), budget_(ctx),
-        max_simulations_(std::min(budget, ctx.limits.max_nodes)) {
-    const SystemInfo& info = system_.info();
-    dt_ = info.step_duration;
-    pieces_.resize(static_cast<std::size_t>(std::max(1.0, std::ceil(horizon / dt_ - 1e-9))));
-    for (auto& p : pieces_) p = {dt_, std::vector<double>(info.input_names.size())};
-    const Box& box = system_.inputs(info.initial_mode).box;
-    for (std::size_t k = 0; k < pieces_.size(); ++k) {
+      : ctx_(ctx), simulations_(ctx, budget, horizon) {
+    const Box& box = simulations_.input_box();
+    for (std::size_t k = 0; k < simulations_.pieces(); ++k) {
       lo_.insert(lo_.end(), box.lo.begin(), box.lo.end());
       hi_.insert(hi_.end(), box.hi.begin(), box.hi.end());
     }
-    add_slots(1);
   }
   std::size_t dim() const { return lo_.size(); }
   const std::vector<double>& lo() const { return lo_; }
   const std::vector<double>& hi() const { return hi_; }
 
   double operator()(const std::vector<double>& x) {
-    if (simulations_ >= max_simulations_) throw SearchOver{TrialStatus::node_cap};
-    if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
-    simulate(*slots_.front(), x);
-    return account(*slots_.front(), x);
+    simulations_.check_budget();
+    SignalSlot& slot = simulations_.slot(0);
+    set_pieces(x, slot.pieces);
+    simulations_.simulate(slot);
+    return value(simulations_.account(slot));
   }
 
   // Evaluates the decision vectors xs as operator() would one after another, the simulations in
@@ -105,89 +82,25 @@ class RobustnessObjective {
   // search, and the counts, the best point and the witness are those of the sequence up to it,
   // so the result does not depend on how many are evaluated at once (barring a deadline).
   void evaluate_batch(const std::vector<std::vector<double>>& xs) {
-    if (simulations_ >= max_simulations_) throw SearchOver{TrialStatus::node_cap};
-    if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
+    simulations_.check_budget();
     const auto n = static_cast<std::size_t>(std::min<std::int64_t>(static_cast<std::int64_t>(xs.size()),
-                                                                   max_simulations_ - simulations_));
-    add_slots(n);
-    parallel_slots(n, ctx_.cpu, [&](std::size_t i) { simulate(*slots_[i], xs[i]); });
-    for (std::size_t i = 0; i < n; ++i) account(*slots_[i], xs[i]);
+                                                                   simulations_.remaining()));
+    simulations_.reserve(n);
+    parallel_slots(n, ctx_.cpu, [&](std::size_t i) {
+      SignalSlot& slot = simulations_.slot(i);
+      set_pieces(xs[i], slot.pieces);
+      simulations_.simulate(slot);
+    });
+    for (std::size_t i = 0; i < n; ++i) simulations_.account(simulations_.slot(i));
   }
 
-  // The outcome once the search is over: counters, metrics, the witness's trajectory.
-  PlannerOutcome outcome(TrialStatus status) {
-    PlannerOutcome out;
-    out.status = status;
-    out.counters.nodes = simulations_;
-    out.counters.propagations = simulations_;
-    out.counters.integration_steps = steps_;
-    out.counters.simulated_time = simulated_time_;
-    out.metrics["robustness"] = best_;
-    out.metrics["control_points"] = pieces_.size();
-    if (refused_ > 0) out.metrics["refused_candidates"] = refused_;
-    if (status == TrialStatus::falsified) out.trajectory = std::move(confirmed_);  // the signal confirmed() replayed
-    return out;
-  }
+  PlannerOutcome outcome(TrialStatus status) { return simulations_.outcome(status); }
 
  private:
-  void add_slots(std::size_t n) {
-    while (slots_.size() < n) {
-      slots_.push_back(std::make_unique<SimulationSlot>(system_, requirement_, pieces_));
-      slots_.back()->simulator.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
-    }
-  }
+  // What an optimiser sees: a finite number (a library may choke on an infinite one).
+  static double value(double rho) { return std::isfinite(rho) ? rho : std::numeric_limits<double>::max(); }
 
-  // The simulation of x in `slot` (touches nothing else: slots run in parallel).
-  void simulate(SimulationSlot& slot, const std::vector<double>& x) const {
-    set_pieces(x, slot.pieces);
-    const stl::SimulatedTrace& trace = slot.simulator.run(slot.pieces, ctx_.parameters);
-    slot.steps = trace.integration_steps;
-    slot.interrupted = slot.simulator.interrupted();
-    slot.problem = trace.problem;
-    slot.end_time = trace.time.empty() ? 0.0 : trace.time.back();
-    slot.rho = slot.interrupted || !trace.problem.empty() ? 0.0 : slot.monitor.robustness(trace);
-  }
-
-  // The simulation of x just run in `slot`, counted: the search's value for x (throws SearchOver
-  // when the search is over).
-  double account(const SimulationSlot& slot, const std::vector<double>& x) {
-    steps_ += slot.steps;
-    if (slot.interrupted) throw SearchOver{TrialStatus::timeout};
-    if (!slot.problem.empty())
-      throw std::invalid_argument("the optimisers drive the system with one input box in every mode: " + slot.problem);
-    ++simulations_;
-    simulated_time_ += slot.end_time;
-    double rho = slot.rho;
-    if (rho < 0.0) {
-      set_pieces(x, pieces_);
-      if (confirmed()) {
-        best_ = rho;
-        throw SearchOver{TrialStatus::falsified};
-      }
-      rho = refused_rho_;
-    }
-    best_ = std::min(best_, rho);
-    return std::isfinite(rho) ? rho : std::numeric_limits<double>::max();
-  }
-
-  // A negative robustness of the search's simulation is a falsification only when the witness
-  // validator (an independent, tight re-simulation) confirms it: one within the integration error
-  // of 0 may not be (a Nelder-Mead signal at -2e-5 re-simulated to +0.0037 on AT). A refused
-  // signal is no falsification: the search goes on with the validator's robustness for it
-  // (refused_rho_, at least 0), and the refusal is counted (metric refused_candidates).
-  bool confirmed() {
-    Trajectory t = stl::trajectory_of_inputs(system_, pieces_, ctx_.parameters);
-    const ValidationReport v = validate_witness(system_, make_witness(system_, "", 0, t));
-    if (v.valid) {
-      confirmed_ = std::move(t);
-      return true;
-    }
-    ++refused_;
-    refused_rho_ = v.robustness ? std::max(*v.robustness, 0.0) : 0.0;
-    return false;
-  }
-
-  // The signal x encodes, into `pieces` (shaped like pieces_).
+  // The signal x encodes, into `pieces`.
   void set_pieces(const std::vector<double>& x, std::vector<stl::InputPiece>& pieces) const {
     const std::size_t m = pieces.front().u.size();
     for (std::size_t k = 0; k < pieces.size(); ++k)
@@ -196,19 +109,8 @@ class RobustnessObjective {
   }
 
   const PlannerContext& ctx_;
-  const System& system_;
-  const stl::Requirement& requirement_;
-  SearchBudget budget_;
-  std::vector<std::unique_ptr<SimulationSlot>> slots_;
-  std::int64_t max_simulations_;
-  double dt_ = 1.0;
-  std::vector<stl::InputPiece> pieces_;
+  SignalSimulations simulations_;
   std::vector<double> lo_, hi_;
-  std::int64_t simulations_ = 0, steps_ = 0, refused_ = 0;
-  double refused_rho_ = 0.0;
-  std::optional<Trajectory> confirmed_;  // the falsifying signal's trajectory, once confirmed
-  double simulated_time_ = 0.0;
-  double best_ = std::numeric_limits<double>::infinity();
 };
 
 // pagmo's view of the objective (a user-defined problem; pagmo copies it, hence the pointer).
@@ -217,8 +119,6 @@ struct PagmoProblem {
   pagmo::vector_double fitness(const pagmo::vector_double& x) const { return {(*objective)(x)}; }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return {objective->lo(), objective->hi()}; }
 };
-
-void check_signal_system(const System& system, double horizon_option);
 
 struct OptimizerOptions {
   Optimizer kind;
@@ -233,8 +133,7 @@ class OptimizationFalsifier final : public Planner {
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
     check_signal_system(ctx.system, o_.horizon);
-    const double horizon = o_.horizon > 0.0 ? o_.horizon : ctx.system.info().requirement->formula.horizon();
-    RobustnessObjective objective(ctx, o_.budget, horizon);
+    RobustnessObjective objective(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon));
     Rng rng(ctx.seed);
     try {
       switch (o_.kind) {
@@ -328,23 +227,6 @@ class OptimizationFalsifier final : public Planner {
 
   OptimizerOptions o_;
 };
-
-// What an optimiser needs of a system (MethodEntry::check_system, and solve()); throws
-// std::invalid_argument naming what is missing.
-void check_signal_system(const System& system, double horizon_option) {
-  const SystemInfo& info = system.info();
-  if (!info.requirement)
-    throw std::invalid_argument("the optimisation falsifiers minimise an STL requirement's robustness: "
-                                "--set requirement=... (hyfal list shows the suite's)");
-  if (info.input_names.empty()) throw std::invalid_argument(fmt::format("suite '{}' has no inputs to optimise", info.suite));
-  if (system.state_dependent_inputs())
-    throw std::invalid_argument(fmt::format("suite '{}' admits inputs that depend on the state (its drivers): a control-point "
-                                            "signal cannot respect them",
-                                            info.suite));
-  const double horizon = horizon_option > 0.0 ? horizon_option : info.requirement->formula.horizon();
-  if (!std::isfinite(horizon))
-    throw std::invalid_argument("the requirement has an unbounded horizon: give the signal's length (--set horizon=...)");
-}
 
 void check_optimizer_system(const System& system, const Json& options) {
   check_signal_system(system, options.at("horizon").get<double>());

@@ -1,0 +1,412 @@
+// FalStar's probabilistically adaptive tree search ("adaptive"): Ernst, Sedwards, Zhang & Hasuo,
+// "Fast falsification of hybrid systems using probabilistically adaptive input", QEST 2019, and
+// its journal version (ACM TOMACS 2021); written from the paper and from what FalStar's public
+// Adaptive.scala does (../shared/arch/anchors.md summarises both), so that hyfal can show it as a
+// peer beside FalStar's own published numbers.
+//
+// The tree. A node is an input prefix ending at piece boundary t (the root: t = 0). An action is
+// one input value held for one segment; level l's actions hold the values of
+// adaptive::level_fractions(m, l) for horizon / cp_l (option `cp`, FalStar's "control points",
+// default 2 2 3 3 3 4: level 0 the corners for half the horizon, ...). Every node offers every
+// level. One pass descends from the root, at each node:
+//  - choose_level: level l with weight 2^-l times the share of its actions still alive (untried,
+//    or tried and kept);
+//  - choose_move in that level: explore (weight `exploration`): an untried action at random;
+//    uniform (weight `uniform`): a random kept child; prefix (`prefix`): the kept child with the
+//    lowest prefix-robustness upper bound; suffix (`suffix`): the kept child whose subtree has the
+//    lowest robustness of a whole simulation (ties: uniformly). Explore needs an untried action,
+//    the three exploit moves a kept child; a fresh node therefore explores.
+// until an action reaches the horizon (a leaf: tried, never kept). The signal is then simulated
+// once (play_out) and the pass backs up (back_up): every node on the path takes the
+// simulation's robustness into its subtree's best; each child created on this pass gets the
+// robustness interval of the trace up to its time (the prefix monitor's bounds, robustness.hpp),
+// and is kept if its lower bound is < 0, else pruned (no extension of it can falsify). The search
+// stops at the first falsification the validator confirms, or after `budget` passes.
+//
+// Choices where the paper leaves a detail open, and why:
+//  - Segments are FalStar's: level l's lasts horizon / cp_l, a node's time is the sum of the
+//    segments above it, and an action whose segment reaches the horizon is a leaf (the
+//    simulation ends at the horizon). The signal itself lies on the suite's δt grid: an input
+//    change at node time t takes effect at the first multiple of δt at or after t. That is what
+//    FalStar does with δt = 1 s: it resamples its input signal at 1 s before simulating
+//    (WithStatistics.sim in Falsification.scala: `us sample (1, T)`), so its change at 7.5 s
+//    reaches the model at 8 s; the arch-fals published profile runs this method at δt = 1 s for
+//    that reason. Where δt divides every horizon / cp_l the segments are exact. The validator
+//    accepts a held signal that changes only at multiples of δt (core/trajectory.cpp).
+//  - The budget counts passes, as FalStar's loop does; a pass that reaches a node none of whose
+//    actions is alive ends without a simulation (FalStar's Result.empty). Simulations (the
+//    counters, the league's count) are the passes that simulated. When the root itself has no
+//    live action left, the search has tried everything it may: not_found.
+//  - Inputs are all piecewise constant (FalStar's `constant` inputs, fixed after their first
+//    choice, have no counterpart in the suites).
+//  - The robustness a child is ranked by (prefix move) is its prefix interval's upper bound, and a
+//    subtree's (suffix move) the lowest whole-simulation robustness through it, both as FalStar
+//    sets them; a refused candidate counts with the validator's robustness (signal_search.hpp).
+//  - Random draws: one mt19937_64 stream from the trial seed, in a fixed order: the same result
+//    at any thread count.
+#include "core/planners/adaptive/adaptive.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "core/rng.hpp"
+#include "core/signal_search.hpp"
+
+namespace hyfal {
+
+namespace adaptive {
+
+namespace {
+
+void append_fractions(std::size_t inputs, std::size_t dim, int remaining, std::vector<double>& prefix,
+                      std::vector<double>& out) {
+  if (dim == inputs) {
+    if (remaining == 0) out.insert(out.end(), prefix.begin(), prefix.end());
+    return;
+  }
+  for (double corner : {0.0, 1.0}) {  // cost 0
+    prefix[dim] = corner;
+    append_fractions(inputs, dim + 1, remaining, prefix, out);
+  }
+  for (int k = 1; k <= remaining; ++k) {  // n / 2^k, n odd: cost k
+    const double d = std::ldexp(1.0, k);
+    for (int n = 1; n < (1 << k); n += 2) {
+      prefix[dim] = n / d;
+      append_fractions(inputs, dim + 1, remaining - k, prefix, out);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<double> level_fractions(std::size_t inputs, int level) {
+  std::vector<double> out, prefix(inputs);
+  if (inputs > 0 && level >= 0) append_fractions(inputs, 0, level, prefix, out);
+  return out;
+}
+
+}  // namespace adaptive
+
+namespace {
+
+constexpr std::uint32_t kLeaf = std::numeric_limits<std::uint32_t>::max();
+
+struct AdaptiveOptions {
+  std::int64_t budget;
+  double horizon;
+  std::vector<int> cp;
+  double explore, uniform, prefix, suffix;
+};
+
+// "2 2 3 3 3 4" -> {2, 2, 3, 3, 3, 4}; throws std::invalid_argument naming what is wrong.
+std::vector<int> parse_cp(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<int> cp;
+  std::string word;
+  while (in >> word) {
+    std::size_t used = 0;
+    int v = 0;
+    try {
+      v = std::stoi(word, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != word.size() || v < 1 || v > 1000)
+      throw std::invalid_argument(fmt::format("adaptive: cp = '{}': '{}' is not a whole number of segments in [1, 1000]", text, word));
+    cp.push_back(v);
+  }
+  if (cp.empty()) throw std::invalid_argument("adaptive: cp is empty: give one segment count per level, e.g. cp=\"2 2 3 3 3 4\"");
+  if (cp.size() > 12) throw std::invalid_argument(fmt::format("adaptive: cp = '{}' has {} levels; at most 12", text, cp.size()));
+  return cp;
+}
+
+AdaptiveOptions read_options(const Json& o) {
+  AdaptiveOptions a{o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(), parse_cp(o.at("cp").get<std::string>()),
+                    o.at("exploration").get<double>(), o.at("uniform").get<double>(), o.at("prefix").get<double>(),
+                    o.at("suffix").get<double>()};
+  if (!(a.uniform + a.prefix + a.suffix > 0.0))
+    throw std::invalid_argument("adaptive: uniform, prefix and suffix are all 0: a tried child could never be chosen again");
+  return a;
+}
+
+class AdaptiveSearch final : public Planner {
+ public:
+  explicit AdaptiveSearch(AdaptiveOptions o) : o_(std::move(o)) {}
+
+  PlannerOutcome solve(const PlannerContext& ctx) override {
+    check_signal_system(ctx.system, o_.horizon);
+    SignalSimulations sims(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon));
+    Pass pass(o_, sims, signal_horizon(ctx.system, o_.horizon), ctx.seed);
+    TrialStatus status = TrialStatus::node_cap;
+    try {
+      status = pass.run();
+    } catch (const SearchOver& over) {
+      status = over.status;
+    }
+    PlannerOutcome out = sims.outcome(status);
+    pass.add_metrics(out.metrics);
+    return out;
+  }
+
+ private:
+  // The search's tree and its passes.
+  class Pass {
+   public:
+    Pass(const AdaptiveOptions& o, SignalSimulations& sims, double horizon, std::uint64_t seed)
+        : o_(o), sims_(sims), rng_(seed), slot_(sims.slot(0)), horizon_(horizon) {
+      const Box& box = sims.input_box();
+      const std::size_t m = box.lo.size();
+      for (std::size_t l = 0; l < o.cp.size(); ++l) {
+        Level level;
+        level.duration = horizon / o.cp[l];
+        const std::vector<double> f = adaptive::level_fractions(m, static_cast<int>(l));
+        for (std::size_t i = 0; i < f.size(); ++i) level.values.push_back(box.lo[i % m] + f[i] * (box.hi[i % m] - box.lo[i % m]));
+        level.actions = f.size() / m;
+        levels_.push_back(std::move(level));
+      }
+      new_node(0.0);
+    }
+
+    // Passes until the budget is spent (node_cap) or every action is dead (not_found); a
+    // falsification, the deadline or a cancellation throws SearchOver out of it.
+    TrialStatus run() {
+      for (std::int64_t i = 0; i < o_.budget; ++i) {
+        if (nodes_.front().alive() == 0) return TrialStatus::not_found;
+        ++passes_;
+        if (!descend()) continue;  // an exhausted node: a pass without a simulation
+        const double rho = play_out();
+        back_up(rho);
+      }
+      return TrialStatus::node_cap;
+    }
+
+    void add_metrics(Json& metrics) const {
+      metrics["passes"] = passes_;
+      metrics["tree_nodes"] = nodes_.size();
+      metrics["pruned"] = pruned_;
+    }
+
+   private:
+    struct Level {
+      double duration = 0.0;        // the segment: how long an action holds its value, s
+      std::vector<double> values;   // actions × inputs
+      std::size_t actions = 0;
+    };
+    struct Edge {
+      std::uint32_t action, child;
+    };
+    // One level's actions at a node: untried (todo) and tried and kept (done); the others
+    // (leaves, pruned children) are dead.
+    struct Bin {
+      std::vector<std::uint32_t> todo;
+      std::vector<Edge> done;
+      std::size_t alive() const { return todo.size() + done.size(); }
+    };
+    struct Node {
+      double time = 0.0;      // the prefix's end, s (a sum of segments)
+      std::size_t piece = 0;  // where its input change takes effect: the first multiple of δt at or after time
+      double prefix_upper = std::numeric_limits<double>::infinity();  // the prefix move's rank
+      double best = std::numeric_limits<double>::infinity();          // the suffix move's rank
+      std::vector<Bin> bins;                                          // one per level
+      std::size_t alive() const {
+        std::size_t n = 0;
+        for (const Bin& b : bins) n += b.alive();
+        return n;
+      }
+    };
+    // One step of a pass: from `node`, action `action` of level `level`, to `child` (kLeaf: the
+    // horizon); created: the step explored (the child is new, or the action a leaf).
+    struct Step {
+      std::uint32_t node, level, action, child;
+      bool created;
+    };
+    enum class Move { explore, uniform, prefix, suffix };
+
+    std::uint32_t new_node(double time) {
+      Node n;
+      n.time = time;
+      n.piece = std::min(sims_.pieces(), static_cast<std::size_t>(std::ceil(time / sims_.piece_duration() - 1e-9)));
+      n.bins.resize(levels_.size());
+      for (std::size_t l = 0; l < levels_.size(); ++l) {
+        n.bins[l].todo.resize(levels_[l].actions);
+        for (std::uint32_t a = 0; a < levels_[l].actions; ++a) n.bins[l].todo[a] = a;
+      }
+      nodes_.push_back(std::move(n));
+      return static_cast<std::uint32_t>(nodes_.size() - 1);
+    }
+
+    double uniform01() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
+    std::size_t below(std::size_t n) {
+      return static_cast<std::size_t>((static_cast<unsigned __int128>(rng_()) * n) >> 64);
+    }
+    // An index drawn with probability proportional to weights[i] (some weight > 0).
+    std::size_t proportional(const double* weights, std::size_t n) {
+      double total = 0.0;
+      for (std::size_t i = 0; i < n; ++i) total += weights[i];
+      const double x = uniform01() * total;
+      double sum = 0.0;
+      std::size_t last = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (weights[i] <= 0.0) continue;
+        sum += weights[i];
+        last = i;
+        if (x < sum) return i;
+      }
+      return last;  // x rounded up to the total
+    }
+
+    // The level: weight 2^-l × (alive actions / actions) (FalStar's Bin.probability).
+    std::uint32_t choose_level(const Node& n) {
+      weights_.resize(levels_.size());
+      for (std::size_t l = 0; l < levels_.size(); ++l)
+        weights_[l] = std::ldexp(1.0, -static_cast<int>(l)) * static_cast<double>(n.bins[l].alive()) /
+                      static_cast<double>(levels_[l].actions);
+      return static_cast<std::uint32_t>(proportional(weights_.data(), weights_.size()));
+    }
+
+    Move choose_move(const Bin& b) {
+      const double w[4] = {b.todo.empty() ? 0.0 : o_.explore, b.done.empty() ? 0.0 : o_.uniform,
+                           b.done.empty() ? 0.0 : o_.prefix, b.done.empty() ? 0.0 : o_.suffix};
+      return static_cast<Move>(proportional(w, 4));
+    }
+
+    // The kept child with the lowest rank, ties drawn uniformly.
+    template <class Rank>
+    const Edge& lowest(const Bin& b, Rank rank) {
+      double least = std::numeric_limits<double>::infinity();
+      std::size_t ties = 0, chosen = 0;
+      for (std::size_t i = 0; i < b.done.size(); ++i) {
+        const double r = rank(nodes_[b.done[i].child]);
+        if (r < least || ties == 0) {
+          least = r;
+          ties = 1;
+          chosen = i;
+        } else if (r == least && below(++ties) == 0) {  // reservoir: each tie kept with 1 / ties
+          chosen = i;
+        }
+      }
+      return b.done[chosen];
+    }
+
+    // Root to a leaf: the pass's steps into path_, the signal into the slot. False when it
+    // reaches a node with no live action (no simulation this pass).
+    bool descend() {
+      path_.clear();
+      std::uint32_t at = 0;
+      while (true) {
+        if (nodes_[at].alive() == 0) return false;
+        const std::uint32_t l = choose_level(nodes_[at]);
+        Bin& bin = nodes_[at].bins[l];
+        const Move move = choose_move(bin);
+        if (move == Move::explore) {
+          const std::size_t i = below(bin.todo.size());
+          const std::uint32_t action = bin.todo[i];
+          bin.todo[i] = bin.todo.back();
+          bin.todo.pop_back();
+          const double end = nodes_[at].time + levels_[l].duration;
+          if (end >= horizon_ * (1.0 - 1e-12)) {  // FalStar: T <= t + dt
+            path_.push_back({at, l, action, kLeaf, true});
+            break;
+          }
+          const std::uint32_t child = new_node(end);  // invalidates references into nodes_
+          path_.push_back({at, l, action, child, true});
+          at = child;
+          continue;
+        }
+        const Edge e = move == Move::uniform ? bin.done[below(bin.done.size())]
+                       : move == Move::prefix ? lowest(bin, [](const Node& c) { return c.prefix_upper; })
+                                              : lowest(bin, [](const Node& c) { return c.best; });
+        path_.push_back({at, l, e.action, e.child, false});
+        at = e.child;
+      }
+      // The signal: each step's value over its segment, cut at the horizon.
+      const std::size_t m = sims_.input_box().lo.size();
+      for (const Step& s : path_) {
+        const Level& level = levels_[s.level];
+        const double* u = level.values.data() + static_cast<std::size_t>(s.action) * m;
+        const std::size_t from = nodes_[s.node].piece;
+        const std::size_t to = s.child == kLeaf ? sims_.pieces() : nodes_[s.child].piece;
+        for (std::size_t k = from; k < to; ++k) std::copy(u, u + m, slot_.pieces[k].u.begin());
+      }
+      return true;
+    }
+
+    // One simulation of the pass's signal, counted (throws SearchOver at the search's end).
+    double play_out() {
+      sims_.check_budget();
+      sims_.simulate(slot_);
+      return sims_.account(slot_);
+    }
+
+    // The pass's result into the tree: subtree bests along the path, and each new child kept or
+    // pruned by its prefix's robustness interval.
+    void back_up(double rho) {
+      const stl::SimulatedTrace& trace = slot_.simulator.trace();
+      for (const Step& s : path_) {
+        Node& n = nodes_[s.node];
+        n.best = std::min(n.best, rho);
+        if (!s.created || s.child == kLeaf) continue;
+        Node& child = nodes_[s.child];
+        child.best = std::min(child.best, rho);
+        // The prefix: the samples up to the child's time (pieces 0 .. piece - 1); a trace that
+        // ended before (the system's invariant) is a prefix as it stands.
+        const std::size_t samples =
+            child.piece == 0 ? 1 : child.piece <= trace.piece_ends.size() ? trace.piece_ends[child.piece - 1] : trace.time.size();
+        const stl::Interval bounds = slot_.monitor.prefix_bounds(trace, samples);
+        if (bounds.lower < 0.0) {
+          child.prefix_upper = bounds.upper;
+          nodes_[s.node].bins[s.level].done.push_back({s.action, s.child});
+        } else {
+          ++pruned_;
+        }
+      }
+    }
+
+    const AdaptiveOptions& o_;
+    SignalSimulations& sims_;
+    Rng rng_;
+    SignalSlot& slot_;
+    std::vector<Level> levels_;
+    std::vector<Node> nodes_;
+    std::vector<Step> path_;
+    std::vector<double> weights_;
+    double horizon_;
+    std::int64_t passes_ = 0, pruned_ = 0;
+  };
+
+  AdaptiveOptions o_;
+};
+
+void check_adaptive_system(const System& system, const Json& options) {
+  read_options(options);
+  check_signal_system(system, options.at("horizon").get<double>());
+}
+
+}  // namespace
+
+MethodEntry adaptive_method() {
+  return {"adaptive",
+          "FalStar's probabilistically adaptive tree search (Ernst et al. 2019): input levels refined corners first, "
+          "pruned by the prefix robustness bound",
+          {{"budget", 1500, "passes per run, each at most one simulation (ARCH-COMP: 1500)", "[1, 100000000]"},
+           {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
+           {"cp", "2 2 3 3 3 4",
+            "segments per level (FalStar's control points): level l holds an input for horizon / cp_l s, a change taking "
+            "effect at the next multiple of δt; level l's values cost l (corners 0, n/2^k costs k, summed over inputs)"},
+           {"exploration", 0.25, "weight of the explore move (an untried action)", "(0, 1]"},
+           {"uniform", 0.25, "weight of the uniform move (a random kept child)", "[0, 1]"},
+           {"prefix", 0.25, "weight of the prefix move (the child with the lowest prefix robustness bound)", "[0, 1]"},
+           {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)", "[0, 1]"}},
+          [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
+          check_adaptive_system};
+}
+
+}  // namespace hyfal

@@ -1,0 +1,100 @@
+// The simulations of a search over input signals (the optimisation falsifiers and FalStar's
+// adaptive search, core/planners/optimizers/ and core/planners/adaptive/): each one drives the
+// system from its initial state with a piecewise-constant signal of K pieces of δt (the suite's
+// SystemInfo::step_duration, so that a signal search and a tree search draw from the same input
+// space), K = ceil(horizon / δt), over the requirement's horizon unless the option `horizon` says
+// otherwise. Each simulation is sampled as the tree searches sample (stl::InputSimulator) and
+// judged by its requirement's robustness; it counts against the run's budget of simulations; a
+// negative robustness counts as a falsification only once the witness validator (an independent,
+// tight re-simulation) confirms it, and a refused candidate (the search's robustness just below
+// 0, the validator's just above) lets the search go on. One place, so that every signal search
+// counts and confirms alike.
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/planner.hpp"
+#include "core/requirements/requirement.hpp"
+#include "core/requirements/simulate.hpp"
+
+namespace hyfal {
+
+// Thrown out of a search step to end the search (every optimiser library lets it through).
+struct SearchOver {
+  TrialStatus status;
+};
+
+// One simulation's scratch: its simulator (propagator and trace buffers), monitor and signal. A
+// search that simulates B signals at once has B (core/parallel_slots.hpp).
+struct SignalSlot {
+  SignalSlot(const System& system, const stl::Requirement& requirement, std::vector<stl::InputPiece> pieces)
+      : simulator(system), monitor(requirement), pieces(std::move(pieces)) {}
+  stl::InputSimulator simulator;
+  stl::TraceMonitor monitor;
+  std::vector<stl::InputPiece> pieces;  // the signal: K pieces of δt, whose u the search writes
+  // The last simulation (its trace stays in `simulator` until the next): its robustness, work,
+  // end time, and whether it was cut short.
+  double rho = 0.0;
+  std::int64_t steps = 0;
+  double end_time = 0.0;
+  bool interrupted = false;
+  std::string problem;
+};
+
+class SignalSimulations {
+ public:
+  SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon);
+
+  std::size_t pieces() const { return pieces_; }      // K
+  double piece_duration() const { return dt_; }       // δt
+  const Box& input_box() const;                       // U of the initial mode: every piece's bounds
+  // Slots 0..n-1 exist after this (slot 0 always does).
+  void reserve(std::size_t n);
+  SignalSlot& slot(std::size_t i) { return *slots_[i]; }
+  // Throws SearchOver when no further simulation may run: the budget is spent (node_cap), or
+  // the deadline passed or the trial was cancelled (timeout).
+  void check_budget() const;
+  // Simulations the budget still allows.
+  std::int64_t remaining() const { return max_simulations_ - simulations_; }
+  std::int64_t simulations() const { return simulations_; }
+  // Simulates slot.pieces into `slot` (touches nothing else: slots may run in parallel).
+  void simulate(SignalSlot& slot) const;
+  // Counts the simulation just run in `slot` and returns the search's value for it: its
+  // robustness, or, for a candidate the validator refused, the validator's robustness (at least
+  // 0). Throws SearchOver{falsified} at a confirmed falsification, SearchOver{timeout} for a
+  // simulation the deadline cut short, std::invalid_argument for a signal the system refuses.
+  double account(const SignalSlot& slot);
+  // The outcome once the search is over: counters, metrics (robustness, control_points,
+  // refused_candidates), the confirmed witness's trajectory.
+  PlannerOutcome outcome(TrialStatus status);
+
+ private:
+  bool confirmed(const std::vector<stl::InputPiece>& pieces);
+
+  const PlannerContext& ctx_;
+  const System& system_;
+  const stl::Requirement& requirement_;
+  SearchBudget budget_;
+  std::vector<std::unique_ptr<SignalSlot>> slots_;
+  std::int64_t max_simulations_;
+  double dt_ = 1.0;
+  std::size_t pieces_ = 1;
+  std::int64_t simulations_ = 0, steps_ = 0, refused_ = 0;
+  double refused_rho_ = 0.0;
+  std::optional<Trajectory> confirmed_;  // the falsifying signal's trajectory, once confirmed
+  double simulated_time_ = 0.0;
+  double best_ = std::numeric_limits<double>::infinity();
+};
+
+// What a signal search needs of a system (a method's check_system, and its solve()): an STL
+// requirement, inputs, a box that does not depend on the state, a finite signal length. Throws
+// std::invalid_argument naming what is missing.
+void check_signal_system(const System& system, double horizon_option);
+// The signal's length: the option's, or the requirement's horizon (0: unset).
+double signal_horizon(const System& system, double horizon_option);
+
+}  // namespace hyfal

@@ -1,0 +1,222 @@
+// FalStar's adaptive tree search (core/planners/adaptive/): its refinement levels against a
+// brute-force enumeration, a known corner and a known midpoint found, the budget counted in
+// passes and simulations, pruning by the prefix bound, validated witnesses, results identical at
+// 1 and 2 threads, and its options checked before a run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/options.hpp"
+#include "core/planners/adaptive/adaptive.hpp"
+#include "core/rng.hpp"
+#include "core/trajectory.hpp"
+#include "parallel/trial_engine.hpp"
+#include "suites/registry.hpp"
+
+namespace hyfal {
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr double kTrialSeconds = 1200.0;
+#else
+constexpr double kTrialSeconds = 60.0;
+#endif
+
+using Sets = std::vector<std::pair<std::string, std::string>>;
+
+std::shared_ptr<const System> make(const Sets& sets) {
+  const SuiteEntry* s = find_suite("at");
+  return s->make(resolve_options(s->parameters, sets));
+}
+
+PlannerOutcome solve(const System& sys, const Sets& options, std::uint64_t seed, std::int64_t max_nodes = 1000000) {
+  const MethodEntry* m = find_method("adaptive");
+  return m->make(resolve_options(m->options, options))->solve({sys, sys.info().parameters, seed, {kTrialSeconds, max_nodes}});
+}
+
+// The cost of a fraction in [0, 1]: 0 for the corners, k for n / 2^k with n odd; -1 for one that
+// is not dyadic up to 2^-12.
+int cost_of(double f) {
+  if (f == 0.0 || f == 1.0) return 0;
+  for (int k = 1; k <= 12; ++k) {
+    const double n = f * std::ldexp(1.0, k);
+    if (n == std::floor(n)) return static_cast<int>(n) % 2 == 1 ? k : -1;
+  }
+  return -1;
+}
+
+// Level l is every combination of per-input fractions whose costs sum to l, each once: checked
+// against all combinations of the fractions of cost <= l.
+TEST(AdaptiveLevels, EachLevelIsEveryCombinationOfItsCostOnce) {
+  for (std::size_t inputs = 1; inputs <= 3; ++inputs)
+    for (int level = 0; level <= 5; ++level) {
+      std::vector<double> singles;  // every fraction of cost <= level
+      for (int k = 0; k <= level; ++k)
+        for (int n = 0; n <= (1 << k); ++n)
+          if (cost_of(n / std::ldexp(1.0, k)) == (k == 0 ? 0 : k) && (k == 0 || n % 2 == 1)) singles.push_back(n / std::ldexp(1.0, k));
+      std::set<std::vector<double>> expected;
+      std::vector<std::size_t> index(inputs, 0);
+      while (true) {
+        std::vector<double> combo;
+        int cost = 0;
+        for (std::size_t d = 0; d < inputs; ++d) {
+          combo.push_back(singles[index[d]]);
+          cost += cost_of(singles[index[d]]);
+        }
+        if (cost == level) expected.insert(combo);
+        std::size_t d = 0;
+        while (d < inputs && ++index[d] == singles.size()) index[d++] = 0;
+        if (d == inputs) break;
+      }
+      const std::vector<double> got = adaptive::level_fractions(inputs, level);
+      ASSERT_EQ(got.size() % inputs, 0u);
+      std::set<std::vector<double>> seen;
+      for (std::size_t i = 0; i < got.size(); i += inputs) {
+        const std::vector<double> combo(got.begin() + static_cast<std::ptrdiff_t>(i), got.begin() + static_cast<std::ptrdiff_t>(i + inputs));
+        EXPECT_TRUE(seen.insert(combo).second) << "a duplicate at level " << level;
+      }
+      EXPECT_EQ(seen, expected) << inputs << " inputs, level " << level;
+    }
+  // FalStar's counts for two inputs (Combinatorics.main): 4 corners, 4, 9, 20, 44, 96.
+  std::vector<std::size_t> sizes;
+  for (int l = 0; l <= 5; ++l) sizes.push_back(adaptive::level_fractions(2, l).size() / 2);
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{4, 4, 9, 20, 44, 96}));
+}
+
+// Every piece of a witness holds a level's value: fractions of the input box of cost < levels.
+void expect_level_values(const Trajectory& t, int levels) {
+  for (const TrajectoryPiece& p : t.pieces) {
+    ASSERT_EQ(p.u.size(), 2u);
+    const int c1 = cost_of(p.u[0] / 100.0), c2 = cost_of(p.u[1] / 325.0);
+    EXPECT_TRUE(c1 >= 0 && c2 >= 0 && c1 + c2 < levels) << p.u[0] << ", " << p.u[1];
+  }
+}
+
+bool holds_somewhere(const Trajectory& t, double throttle, double brake) {
+  return std::any_of(t.pieces.begin(), t.pieces.end(),
+                     [&](const TrajectoryPiece& p) { return p.duration > 0.0 && p.u[0] == throttle && p.u[1] == brake; });
+}
+
+// A requirement only the corner (100 %, no brake) violates is falsified at once: level 0 offers
+// the corners first (weight 1 against level l's 2^-l). One only the midpoint throttle violates
+// takes longer (level 1 and beyond) and is found too; every value the search offers is a level's.
+TEST(Adaptive, FindsAKnownCornerFirstAndAKnownMidpoint) {
+  const auto corner = make({{"requirement", "always[0,30] (u1 < 99 or u2 > 1)"}});
+  const auto middle = make({{"requirement", "always[0,30] (u1 < 49 or u1 > 51)"}});
+  double corner_sims = 0.0, middle_sims = 0.0;
+  constexpr int kSeeds = 12;
+  for (std::uint64_t seed = 1; seed <= kSeeds; ++seed) {
+    const PlannerOutcome a = solve(*corner, {{"budget", "300"}}, seed);
+    ASSERT_EQ(a.status, TrialStatus::falsified) << seed;
+    EXPECT_TRUE(holds_somewhere(*a.trajectory, 100.0, 0.0));
+    expect_level_values(*a.trajectory, 6);
+    const PlannerOutcome b = solve(*middle, {{"budget", "300"}}, seed);
+    ASSERT_EQ(b.status, TrialStatus::falsified) << seed;
+    EXPECT_TRUE(std::any_of(b.trajectory->pieces.begin(), b.trajectory->pieces.end(),
+                            [](const TrajectoryPiece& p) { return p.duration > 0.0 && p.u[0] == 50.0; }));
+    expect_level_values(*b.trajectory, 6);
+    EXPECT_TRUE(validate_witness(*corner, make_witness(*corner, "adaptive", 0, *a.trajectory)).valid);
+    EXPECT_TRUE(validate_witness(*middle, make_witness(*middle, "adaptive", 0, *b.trajectory)).valid);
+    corner_sims += static_cast<double>(a.counters.nodes);
+    middle_sims += static_cast<double>(b.counters.nodes);
+  }
+  EXPECT_LT(corner_sims / kSeeds, 4.0);  // the first pass draws a corner with probability ~ 1/2
+  EXPECT_GT(middle_sims / kSeeds, corner_sims / kSeeds);
+}
+
+// The budget counts passes; each pass simulates the whole signal once, so simulations = the
+// counters' nodes and simulated time = simulations x horizon; the node cap bounds the
+// simulations too.
+TEST(Adaptive, TheBudgetCountsPassesAndSimulations) {
+  const auto sys = make({{"requirement", "always[0,30] (u1 <= 100)"}});  // never falsified
+  const PlannerOutcome o = solve(*sys, {{"budget", "40"}}, 3);
+  EXPECT_EQ(o.status, TrialStatus::node_cap);
+  EXPECT_EQ(o.metrics.at("passes").get<int>(), 40);
+  EXPECT_LE(o.counters.nodes, 40);
+  EXPECT_GE(o.counters.nodes, 30);  // a pass without a simulation only where a subtree is exhausted
+  EXPECT_NEAR(o.counters.simulated_time, 30.0 * static_cast<double>(o.counters.nodes), 1e-6);
+  const PlannerOutcome capped = solve(*sys, {{"budget", "40"}}, 3, 12);
+  EXPECT_EQ(capped.status, TrialStatus::node_cap);
+  EXPECT_EQ(capped.counters.nodes, 12);
+  // One level of one segment over the horizon: 4 corner leaves, then nothing is left to try.
+  const PlannerOutcome all = solve(*sys, {{"budget", "100"}, {"cp", "1"}}, 3);
+  EXPECT_EQ(all.status, TrialStatus::not_found);
+  EXPECT_EQ(all.counters.nodes, 4);
+}
+
+// A child whose prefix already satisfies the requirement (robustness lower bound >= 0) is
+// pruned. Here the first sample satisfies it, so every node a pass creates is pruned (none of
+// the default levels reaches the horizon in one segment, so the root has no leaf) and the search
+// gives up once it has tried each of the root's 4 + 4 + 9 + 20 + 44 + 96 actions once.
+TEST(Adaptive, PrunesAPrefixThatCanNoLongerFalsify) {
+  const auto sys = make({{"requirement", "eventually[0,30] (u1 >= 0)"}});
+  const PlannerOutcome o = solve(*sys, {{"budget", "1500"}}, 5);
+  EXPECT_EQ(o.status, TrialStatus::not_found);
+  EXPECT_EQ(o.counters.nodes, 177);
+  // Every node a pass created below the root (its explored chain down to a leaf) was pruned.
+  EXPECT_GT(o.metrics.at("pruned").get<int>(), 177);
+  EXPECT_EQ(o.metrics.at("pruned").get<int>(), o.metrics.at("tree_nodes").get<int>() - 1);
+}
+
+// Options are checked before a run: a malformed cp, or no exploit move.
+TEST(Adaptive, RefusesMalformedOptions) {
+  const auto sys = make({{"requirement", "ATc1"}});
+  const MethodEntry* m = find_method("adaptive");
+  for (const Sets& bad : std::vector<Sets>{{{"cp", "2 x 3"}}, {{"cp", ""}}, {{"cp", "0 2"}}, {{"cp", "1 2 3 4 5 6 7 8 9 10 11 12 13"}},
+                                           {{"uniform", "0"}, {"prefix", "0"}, {"suffix", "0"}}}) {
+    EXPECT_THROW(m->check_system(*sys, resolve_options(m->options, bad)), std::invalid_argument) << bad.front().second;
+  }
+  EXPECT_NO_THROW(m->check_system(*sys, resolve_options(m->options, {})));
+  const auto no_requirement = find_suite("at")->make(resolve_options(find_suite("at")->parameters, {}));
+  EXPECT_THROW(m->check_system(*no_requirement, resolve_options(m->options, {})), std::invalid_argument);
+}
+
+// Through the trial engine: the same trials at 1 and 2 threads, and every falsifying run's
+// witness validated.
+TEST(Adaptive, ResultsDoNotDependOnTheThreadCountAndWitnessesValidate) {
+  const SuiteEntry* suite = find_suite("at");
+  std::vector<TrialJob> jobs;
+  for (const char* requirement : {"ATc3", "ATc4", "AT2"}) {
+    const Json instance =
+        canonical_instance(suite->parameters, resolve_options(suite->parameters, {{"requirement", requirement}}));
+    const auto sys = suite->make(instance);
+    for (int t = 0; t < 3; ++t) {
+      TrialJob job;
+      job.key = {"adaptive", "at", instance.dump(), "adaptive", "{}", t};
+      job.system = sys;
+      job.method = find_method("adaptive");
+      job.method_options = resolve_options(job.method->options, {{"budget", "300"}});
+      job.limits = {kTrialSeconds, 1000000};
+      job.seed = trial_seed(9, "at", job.key.instance, "adaptive", t);
+      jobs.push_back(job);
+    }
+  }
+  std::map<int, std::vector<std::string>> by_threads;
+  int validated = 0;
+  for (int threads : {1, 2}) {
+    EngineOptions options;
+    options.threads = threads;
+    std::vector<std::string>& out = by_threads[threads];
+    out.resize(jobs.size());
+    run_trials(jobs, options, [&](const TrialRecord& r) {
+      for (std::size_t i = 0; i < jobs.size(); ++i)
+        if (jobs[i].key == r.key)
+          out[i] = std::string(to_string(r.status)) + " " + std::to_string(r.nodes) + " " + std::to_string(r.integration_steps) +
+                   " " + r.metrics;
+      if (r.status == TrialStatus::falsified) {
+        EXPECT_TRUE(r.validated) << r.key.instance;
+        validated += r.validated;
+      }
+    });
+  }
+  EXPECT_EQ(by_threads[1], by_threads[2]);
+  EXPECT_GT(validated, 0);
+}
+
+}  // namespace
+}  // namespace hyfal
