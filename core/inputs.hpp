@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "core/input_levels.hpp"
 #include "core/model.hpp"
 #include "core/rng.hpp"
 
@@ -71,6 +72,35 @@ class InputGrid {
     for (std::size_t j = 0; j < k; ++j) draw_uniform_input(rng, lo_, hi_, std::span<double>(mapped_.data() + j * m, m));
     drawn_ = k;
   }
+  // Input refinement (the trees' option input_refinement): instead of Ū, `values` inputs of the
+  // dyadic refinement sequence (core/input_levels.hpp: the corners, then the midpoints, then the
+  // quarter points, ...) mapped onto the admissible box at (q, x), its `chunk`-th run of `values`
+  // (wrapping around at the sequence's end), after `held` (the input the node was reached with;
+  // left out when empty or not admissible at x), so that a refined value can be held on.
+  void refine(Mode q, std::span<const double> x, std::size_t chunk, std::size_t values, std::span<const double> held) {
+    set_ = &system_.inputs(q);
+    const std::size_t m = set_->dim();
+    if (sequence_.empty()) sequence_ = dyadic_refinement_sequence(m, 4096);
+    lo_.resize(m);
+    hi_.resize(m);
+    if (dependent_) {
+      system_.input_bounds(q, x, lo_, hi_);
+    } else {
+      std::copy(set_->box.lo.begin(), set_->box.lo.end(), lo_.begin());
+      std::copy(set_->box.hi.begin(), set_->box.hi.end(), hi_.begin());
+    }
+    mapped_.clear();
+    bool admissible = held.size() == m;
+    for (std::size_t i = 0; admissible && i < m; ++i) admissible = held[i] >= lo_[i] && held[i] <= hi_[i];
+    if (admissible) mapped_.insert(mapped_.end(), held.begin(), held.end());
+    const std::size_t total = sequence_.size() / m;
+    for (std::size_t k = 0; k < values; ++k) {
+      const double* f = sequence_.data() + ((chunk * values + k) % total) * m;
+      for (std::size_t i = 0; i < m; ++i)
+        mapped_.push_back(f[i] >= 1.0 ? hi_[i] : f[i] <= 0.0 ? lo_[i] : std::min(hi_[i], lo_[i] + f[i] * (hi_[i] - lo_[i])));
+    }
+    drawn_ = mapped_.size() / m;
+  }
   std::size_t count() const { return drawn_ > 0 ? drawn_ : set_->count(); }
   std::span<const double> input(std::size_t j) const {
     if (!dependent_ && drawn_ == 0) return set_->input(j);
@@ -84,6 +114,7 @@ class InputGrid {
   std::size_t drawn_ = 0;  // inputs drawn by the last call (draw() with continuous random inputs), else 0
   const InputSet* set_ = nullptr;
   std::vector<double> lo_, hi_, mapped_;
+  std::vector<double> sequence_;  // the dyadic refinement sequence, fractions (refine())
 };
 
 }  // namespace hyfal

@@ -1,7 +1,8 @@
 // FalStar's adaptive tree search (core/planners/adaptive/): its refinement levels against a
 // brute-force enumeration, a known corner and a known midpoint found, the budget counted in
 // passes and simulations, pruning by the prefix bound, validated witnesses, results identical at
-// 1 and 2 threads, and its options checked before a run.
+// 1 and 2 threads, and its options checked before a run. The tree-optimiser hybrid
+// (adaptive-local) and the trees' input refinement (rrt's input_refinement) likewise.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "core/input_levels.hpp"
+#include "core/inputs.hpp"
 #include "core/options.hpp"
 #include "core/planners/adaptive/adaptive.hpp"
 #include "core/rng.hpp"
@@ -216,6 +219,115 @@ TEST(Adaptive, ResultsDoNotDependOnTheThreadCountAndWitnessesValidate) {
   }
   EXPECT_EQ(by_threads[1], by_threads[2]);
   EXPECT_GT(validated, 0);
+}
+
+// The hybrid: its local searches count against the same budget (passes plus local
+// simulations = simulations, all within the budget), it runs them where the tree stalls, its
+// witnesses validate, and its results do not depend on the thread count (checked above for the
+// tree it shares; here: the same seed, the same run).
+TEST(AdaptiveLocal, LocalSearchesShareTheBudgetAndWitnessesValidate) {
+  const auto sys = make({{"requirement", "ATc5"}, {"step", "1"}});
+  const MethodEntry* m = find_method("adaptive-local");
+  int searched = 0, falsified = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const auto run = [&] {
+      return m->make(resolve_options(m->options, {{"budget", "300"}}))->solve({*sys, sys->info().parameters, seed, {kTrialSeconds, 1000000}});
+    };
+    const PlannerOutcome o = run();
+    ASSERT_TRUE(o.status == TrialStatus::falsified || o.status == TrialStatus::node_cap) << seed;
+    const std::int64_t passes = o.metrics.at("passes").get<std::int64_t>();
+    const std::int64_t local = o.metrics.at("local_simulations").get<std::int64_t>();
+    EXPECT_LE(o.counters.nodes, 300);
+    EXPECT_LE(o.counters.nodes, passes + local);
+    EXPECT_GE(o.counters.nodes, local);
+    EXPECT_NEAR(o.counters.simulated_time, 30.0 * static_cast<double>(o.counters.nodes), 1e-6);
+    searched += o.metrics.at("local_searches").get<int>() > 0;
+    if (o.status == TrialStatus::falsified) {
+      ++falsified;
+      EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "adaptive-local", 0, *o.trajectory)).valid) << seed;
+    }
+    const PlannerOutcome again = run();
+    EXPECT_EQ(again.counters.nodes, o.counters.nodes);
+    EXPECT_EQ(again.metrics.dump(), o.metrics.dump());
+  }
+  EXPECT_GT(searched, 0);
+  EXPECT_GT(falsified, 0);
+}
+
+// Input refinement offers the dyadic levels in order: the input the node was reached with, then
+// the sequence's next V values each time the node is selected again (the corners first), wrapping
+// around at its end; every value lies in the box.
+TEST(InputRefinement, OffersTheHeldInputThenTheLevelsInOrder) {
+  const auto sys = make({{"requirement", "ATc1"}});
+  InputGrid grid(*sys);
+  const std::vector<double> seq = dyadic_refinement_sequence(2, 4096);
+  const std::vector<double> x = sys->info().initial_state;
+  const std::vector<double> held{75.0, 0.0};
+  for (std::size_t chunk : {0u, 1u, 2u, 7u}) {
+    grid.refine(0, x, chunk, 2, held);
+    ASSERT_EQ(grid.count(), 3u);
+    EXPECT_EQ(grid.input(0)[0], 75.0);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const std::size_t at = (chunk * 2 + k) * 2;
+      EXPECT_EQ(grid.input(1 + k)[0], 100.0 * seq[at]) << chunk;
+      EXPECT_EQ(grid.input(1 + k)[1], 325.0 * seq[at + 1]) << chunk;
+    }
+  }
+  // The first four values are the corners (level 0), the next four level 1's.
+  std::set<std::vector<double>> corners, level1;
+  for (std::size_t k = 0; k < 4; ++k) corners.insert({seq[2 * k], seq[2 * k + 1]});
+  for (std::size_t k = 4; k < 8; ++k) level1.insert({seq[2 * k], seq[2 * k + 1]});
+  EXPECT_EQ(corners, (std::set<std::vector<double>>{{0, 0}, {0, 1}, {1, 0}, {1, 1}}));
+  EXPECT_EQ(level1, (std::set<std::vector<double>>{{0.5, 0}, {0.5, 1}, {0, 0.5}, {1, 0.5}}));
+  grid.refine(0, x, 0, 4, {});  // the root: no held input
+  EXPECT_EQ(grid.count(), 4u);
+  const std::size_t total = seq.size() / 2;  // wraps around
+  grid.refine(0, x, total, 1, {});
+  EXPECT_EQ(grid.input(0)[0], 100.0 * seq[0]);
+}
+
+// rrt and rrt-dstar with input refinement: a row the 9-point grid cannot falsify (ATc4 at 7.5 s
+// pieces needs a throttle near 75 %) is falsified, every witness validates, and the trials are
+// the same at 1 and 2 threads (in batches of 4 too).
+TEST(InputRefinement, TreesFalsifyBetweenTheGridsPointsAndAreDeterministic) {
+  const SuiteEntry* suite = find_suite("at");
+  const Json instance = canonical_instance(
+      suite->parameters, resolve_options(suite->parameters, {{"requirement", "ATc4"}, {"step", "7.5"}}));
+  const auto sys = suite->make(instance);
+  std::vector<TrialJob> jobs;
+  for (const char* method : {"rrt", "rrt-dstar"})
+    for (const Sets& options : std::vector<Sets>{{{"robustness_bias", "0.5"}, {"input_refinement", "2"}, {"budget", "300"}},
+                                                 {{"robustness_bias", "0.5"}, {"input_refinement", "2"}, {"budget", "300"}, {"batch", "4"}}})
+      for (int t = 0; t < 4; ++t) {
+        TrialJob job;
+        job.key = {"refine", "at", instance.dump(), method, Json(options).dump(), t};
+        job.system = sys;
+        job.method = find_method(method);
+        job.method_options = resolve_options(job.method->options, options);
+        job.limits = {kTrialSeconds, 1000000};
+        job.seed = trial_seed(3, "at", job.key.instance, method + job.key.config, t);
+        jobs.push_back(job);
+      }
+  std::map<int, std::vector<std::string>> by_threads;
+  int falsified = 0;
+  for (int threads : {1, 2}) {
+    EngineOptions options;
+    options.threads = threads;
+    std::vector<std::string>& out = by_threads[threads];
+    out.resize(jobs.size());
+    run_trials(jobs, options, [&](const TrialRecord& r) {
+      for (std::size_t i = 0; i < jobs.size(); ++i)
+        if (jobs[i].key == r.key)
+          out[i] = std::string(to_string(r.status)) + " " + std::to_string(r.nodes) + " " + std::to_string(r.integration_steps) +
+                   " " + r.metrics;
+      if (r.status == TrialStatus::falsified) {
+        EXPECT_TRUE(r.validated) << r.key.method << " " << r.key.config;
+        falsified += threads == 1;
+      }
+    });
+  }
+  EXPECT_EQ(by_threads[1], by_threads[2]);
+  EXPECT_GT(falsified, 0);
 }
 
 }  // namespace

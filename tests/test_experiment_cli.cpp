@@ -280,8 +280,8 @@ TEST_F(ExperimentCliTest, TheArchLeagueRunsEveryRowWithEveryMethod) {
   };
   const std::vector<std::string> f = fields(counts.text);
   ASSERT_EQ(f.size(), 4u) << counts.text;
-  EXPECT_EQ(f[0], "56");
-  EXPECT_EQ(f[1], "7");
+  EXPECT_EQ(f[0], "72");  // 4 rows x 9 columns x 2 runs
+  EXPECT_EQ(f[1], "8");   // RRT twice (guided; guided and refined)
   EXPECT_NE(f[2], "0") << "the smoke rows are easy enough that some run falsifies";
   EXPECT_EQ(f[2], f[3]) << "every falsifying run's witness validates";
 }

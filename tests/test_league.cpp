@@ -32,8 +32,10 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   ASSERT_TRUE(t->league.has_value());
   const TableLeague& l = *t->league;
   EXPECT_EQ(l.rows.size(), 35u);
-  EXPECT_EQ(l.columns.size(), 7u);
-  EXPECT_EQ(l.columns.back().method, "adaptive");
+  EXPECT_EQ(l.columns.size(), 9u);
+  EXPECT_EQ(l.columns[6].method, "adaptive");
+  EXPECT_EQ(l.columns[7].method, "adaptive-local");
+  EXPECT_EQ(setting(l.columns[8].settings, "input_refinement"), "2");
   EXPECT_EQ(l.rows.front().label, "AT1");
   EXPECT_EQ(l.rows.front().suite, "at");
   EXPECT_EQ(setting(l.rows.front().settings, "requirement"), "AT1");
@@ -50,7 +52,7 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   EXPECT_EQ(setting(t->published->settings, "budget"), "300");
   EXPECT_EQ(setting(t->published->settings, "step"), "7.5");
   // FalStar's adaptive search on FalStar's own 1 s input grid, in the published profile only.
-  ASSERT_EQ(t->published->column_settings.size(), 1u);
+  ASSERT_EQ(t->published->column_settings.size(), 2u);
   EXPECT_EQ(t->published->column_settings.front().first, "adaptive (FalStar)");
   EXPECT_EQ(setting(t->published->column_settings.front().second, "step"), "1");
   EXPECT_TRUE(t->quick.column_settings.empty());

@@ -523,6 +523,55 @@ TEST(PrefixRobustness, PrefixBoundsContainEveryExtension) {
               extensions, violated, satisfied);
 }
 
+// A prefix closed at its last time (robustness_interval's closed_at_last_time: extensions add
+// samples only after it, as FalStar's adaptive search judges a node's prefix) bounds every such
+// extension, and its interval lies inside the open one; a window that ends exactly at the last
+// time is decided.
+TEST(PrefixRobustness, ClosedAtTheLastTimeBoundsEveryLaterExtension) {
+  std::mt19937_64 rng(seed_or(13));
+  const std::vector<std::string> names{"a", "b"};
+  const int formulas = scaled(1000);
+  long extensions = 0, tighter = 0;
+  for (int k = 0; k < formulas; ++k) {
+    const Formula f = parse_requirement(random_prefix_formula(rng), names);
+    const RandomTrace head = random_trace(rng, 1 + rng() % 30);
+    OfflineMonitor offline(f);
+    const Interval open = offline.robustness_interval({head.t, head.values}, false);
+    const Interval closed = offline.robustness_interval({head.t, head.values}, false, true);
+    ASSERT_GE(closed.lower, open.lower) << to_string(f);
+    ASSERT_LE(closed.upper, open.upper) << to_string(f);
+    tighter += closed.lower > open.lower || closed.upper < open.upper;
+    for (int c = 0; c < 6; ++c) {
+      const RandomTrace tail = random_trace(rng, rng() % 30, head.t.back() + 0.1);  // strictly later
+      std::vector<double> t = head.t, values;
+      t.insert(t.end(), tail.t.begin(), tail.t.end());
+      for (std::size_t s = 0; s < 2; ++s) {
+        values.insert(values.end(), head.values.begin() + static_cast<std::ptrdiff_t>(s * head.t.size()),
+                      head.values.begin() + static_cast<std::ptrdiff_t>((s + 1) * head.t.size()));
+        values.insert(values.end(), tail.values.begin() + static_cast<std::ptrdiff_t>(s * tail.t.size()),
+                      tail.values.begin() + static_cast<std::ptrdiff_t>((s + 1) * tail.t.size()));
+      }
+      const double r = offline.robustness({t, values});
+      ASSERT_GE(r, closed.lower) << to_string(f);
+      ASSERT_LE(r, closed.upper) << to_string(f);
+      ++extensions;
+    }
+  }
+  EXPECT_GT(tighter, 0);
+  // always[0,20] over samples at 0..20: open, a jump at 20 could still break it; closed, decided.
+  OfflineMonitor speed(parse_requirement("always[0,20] (a < 120)", names));
+  std::vector<double> t, values;
+  for (int i = 0; i <= 20; ++i) t.push_back(i);
+  for (int i = 0; i <= 20; ++i) values.push_back(100.0 + (i % 5));
+  values.resize(2 * t.size(), 0.0);
+  EXPECT_EQ(speed.robustness_interval({t, values}, false).lower, -std::numeric_limits<double>::infinity());
+  const Interval decided = speed.robustness_interval({t, values}, false, true);
+  EXPECT_EQ(decided.lower, 16.0);
+  EXPECT_EQ(decided.upper, 16.0);
+  std::printf("[ prefix ] %ld later extensions inside their closed prefix's bounds (%ld of %d closed intervals tighter)\n",
+              extensions, tighter, formulas);
+}
+
 // Feeds (time, y1) samples one by one, non-final; returns every step's bounds.
 std::vector<PrefixBounds> feed(PrefixMonitor& m, const std::vector<std::pair<double, double>>& samples) {
   std::vector<double> state, child;

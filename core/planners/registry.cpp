@@ -26,6 +26,7 @@ const std::vector<MethodEntry>& all_methods() {
       cmaes_method(),
       nelder_mead_method(),
       adaptive_method(),
+      adaptive_local_method(),
 #ifdef HYFAL_HAVE_OMPL  // last, so that a build without OMPL lists a prefix of the README's settings table
       ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method(),
 #endif

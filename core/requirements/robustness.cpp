@@ -129,7 +129,7 @@ void OfflineMonitor::plan_samples() {
   }
 }
 
-Interval OfflineMonitor::robustness_interval(const TraceView& trace, bool final_trace) {
+Interval OfflineMonitor::robustness_interval(const TraceView& trace, bool final_trace, bool closed_at_last_time) {
   if (final_trace) {  // every node's row, as for a prefix (the prefix monitor reads them)
     const double r = robustness_at_every_sample(trace);
     return {r, r};
@@ -138,7 +138,8 @@ Interval OfflineMonitor::robustness_interval(const TraceView& trace, bool final_
   prepare(known + 1);
   exact_ = false;
   sentinel_time_.assign(trace.time.begin(), trace.time.end());
-  sentinel_time_.push_back(trace.time.back());
+  sentinel_time_.push_back(closed_at_last_time ? std::nextafter(trace.time.back(), std::numeric_limits<double>::infinity())
+                                              : trace.time.back());
   time_ = sentinel_time_;
   upper_.resize(nodes_.size());
   evaluate_expressions(trace, trace.samples());

@@ -83,8 +83,10 @@ class OfflineMonitor {
   double robustness_at_every_sample(const TraceView& trace);
   // The interval of ρ(φ, 0) over every extension of `trace` (see above); final_trace: the trace is
   // complete, and the result is {r, r} with r = robustness(trace), every node evaluated at every
-  // sample. Same preconditions.
-  Interval robustness_interval(const TraceView& trace, bool final_trace);
+  // sample. Same preconditions. closed_at_last_time: the extensions add samples only after the
+  // last time (none at it), so a window that ends exactly there is decided: the sentinel stands
+  // just after the last time instead of at it (the same argument, for that narrower set).
+  Interval robustness_interval(const TraceView& trace, bool final_trace, bool closed_at_last_time = false);
   // After robustness_at_every_sample(): ρ of node `node` (a FormulaNode index) at every sample.
   std::span<const double> node_signal(int node) const;
   // After robustness_interval() of a prefix: node `node`'s lower and upper rows, n + 1 values (the

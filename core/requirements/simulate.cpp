@@ -171,8 +171,8 @@ TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) {
   return v;
 }
 
-Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t samples) {
-  return monitor_.robustness_interval(view(trace, samples), false);
+Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t samples, bool closed_at_last_time) {
+  return monitor_.robustness_interval(view(trace, samples), false, closed_at_last_time);
 }
 
 double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {

@@ -90,8 +90,9 @@ class TraceMonitor {
   double robustness(const SimulatedTrace& trace);
   TraceVerdict judge(const SimulatedTrace& trace);
   // The robustness interval of the trace's first `samples` samples as a prefix (every
-  // extension's ρ(φ, 0) lies in it: robustness.hpp), e.g. up to a piece_ends entry.
-  Interval prefix_bounds(const SimulatedTrace& trace, std::size_t samples);
+  // extension's ρ(φ, 0) lies in it: robustness.hpp), e.g. up to a piece_ends entry;
+  // closed_at_last_time: of the extensions that add no further sample at the prefix's last time.
+  Interval prefix_bounds(const SimulatedTrace& trace, std::size_t samples, bool closed_at_last_time = false);
 
  private:
   // The requirement's signals of the trace's first `samples` samples (all: SIZE_MAX), as the

@@ -33,6 +33,13 @@
 //    reaches the model at 8 s; the arch-fals published profile runs this method at δt = 1 s for
 //    that reason. Where δt divides every horizon / cp_l the segments are exact. The validator
 //    accepts a held signal that changes only at multiples of δt (core/trajectory.cpp).
+//  - A node's prefix is judged as FalStar judges it: complete up to its time, so a window that
+//    ends exactly there is decided (Robustness.bounds: an always or eventually is known once the
+//    trace reaches its interval's end, `xs.T < to` being the open case). Our monitor's prefix
+//    interval by default leaves it open, since a sample at that very time (the other side of a
+//    jump) could still follow; here the interval is of extensions that add samples only later
+//    (robustness_interval's closed_at_last_time). With the open interval, a child at 10 s was
+//    never pruned by always[0,10] and ATc4/ATc5 took twice FalStar's simulations (measured).
 //  - The budget counts passes, as FalStar's loop does; a pass that reaches a node none of whose
 //    actions is alive ends without a simulation (FalStar's Result.empty). Simulations (the
 //    counters, the league's count) are the passes that simulated. When the root itself has no
@@ -56,7 +63,9 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <nlopt.hpp>
 
+#include "core/input_levels.hpp"
 #include "core/rng.hpp"
 #include "core/signal_search.hpp"
 
@@ -64,34 +73,7 @@ namespace hyfal {
 
 namespace adaptive {
 
-namespace {
-
-void append_fractions(std::size_t inputs, std::size_t dim, int remaining, std::vector<double>& prefix,
-                      std::vector<double>& out) {
-  if (dim == inputs) {
-    if (remaining == 0) out.insert(out.end(), prefix.begin(), prefix.end());
-    return;
-  }
-  for (double corner : {0.0, 1.0}) {  // cost 0
-    prefix[dim] = corner;
-    append_fractions(inputs, dim + 1, remaining, prefix, out);
-  }
-  for (int k = 1; k <= remaining; ++k) {  // n / 2^k, n odd: cost k
-    const double d = std::ldexp(1.0, k);
-    for (int n = 1; n < (1 << k); n += 2) {
-      prefix[dim] = n / d;
-      append_fractions(inputs, dim + 1, remaining - k, prefix, out);
-    }
-  }
-}
-
-}  // namespace
-
-std::vector<double> level_fractions(std::size_t inputs, int level) {
-  std::vector<double> out, prefix(inputs);
-  if (inputs > 0 && level >= 0) append_fractions(inputs, 0, level, prefix, out);
-  return out;
-}
+std::vector<double> level_fractions(std::size_t inputs, int level) { return dyadic_level_fractions(inputs, level); }
 
 }  // namespace adaptive
 
@@ -104,6 +86,12 @@ struct AdaptiveOptions {
   double horizon;
   std::vector<int> cp;
   double explore, uniform, prefix, suffix;
+  // adaptive-local: simulations per local search (0: FalStar's search alone) and its first step
+  // as a fraction of each input's range.
+  std::int64_t local_budget = 0;
+  double local_step = 0.125;
+  std::int64_t local_after = 20;  // passes without a new best before a local search
+  std::size_t local_segments = 0;  // trailing segments the local search moves (0: all)
 };
 
 // "2 2 3 3 3 4" -> {2, 2, 3, 3, 3, 4}; throws std::invalid_argument naming what is wrong.
@@ -134,6 +122,12 @@ AdaptiveOptions read_options(const Json& o) {
                     o.at("suffix").get<double>()};
   if (!(a.uniform + a.prefix + a.suffix > 0.0))
     throw std::invalid_argument("adaptive: uniform, prefix and suffix are all 0: a tried child could never be chosen again");
+  if (o.contains("local_budget")) {
+    a.local_budget = o.at("local_budget").get<std::int64_t>();
+    a.local_step = o.at("local_step").get<double>();
+    a.local_after = o.at("local_after").get<std::int64_t>();
+    a.local_segments = o.at("local_segments").get<std::size_t>();
+  }
   return a;
 }
 
@@ -184,6 +178,17 @@ class AdaptiveSearch final : public Planner {
         if (!descend()) continue;  // an exhausted node: a pass without a simulation
         const double rho = play_out();
         back_up(rho);
+        if (o_.local_budget > 0) {
+          if (rho < best_) {
+            best_ = rho;
+            keep_best();
+            since_best_ = 0;
+          } else if (++since_best_ >= wait_) {
+            // A local search that found nothing better doubles the wait before the next one.
+            wait_ = polish() ? o_.local_after : 2 * wait_;
+            since_best_ = 0;
+          }
+        }
       }
       return TrialStatus::node_cap;
     }
@@ -192,6 +197,10 @@ class AdaptiveSearch final : public Planner {
       metrics["passes"] = passes_;
       metrics["tree_nodes"] = nodes_.size();
       metrics["pruned"] = pruned_;
+      if (o_.local_budget > 0) {
+        metrics["local_searches"] = local_searches_;
+        metrics["local_simulations"] = local_simulations_;
+      }
     }
 
    private:
@@ -360,7 +369,7 @@ class AdaptiveSearch final : public Planner {
         // ended before (the system's invariant) is a prefix as it stands.
         const std::size_t samples =
             child.piece == 0 ? 1 : child.piece <= trace.piece_ends.size() ? trace.piece_ends[child.piece - 1] : trace.time.size();
-        const stl::Interval bounds = slot_.monitor.prefix_bounds(trace, samples);
+        const stl::Interval bounds = slot_.monitor.prefix_bounds(trace, samples, true);
         if (bounds.lower < 0.0) {
           child.prefix_upper = bounds.upper;
           nodes_[s.node].bins[s.level].done.push_back({s.action, s.child});
@@ -368,6 +377,102 @@ class AdaptiveSearch final : public Planner {
           ++pruned_;
         }
       }
+    }
+
+    // adaptive-local: when local_after passes in a row have not lowered the best robustness, the
+    // best signal so far is polished by a short Nelder-Mead (NLopt) over its segments' values,
+    // continuous within the input box, the segments' times fixed, started at its values with a
+    // first step of local_step of each range, for at most local_budget simulations of the run's
+    // budget; what it finds becomes the best signal, which the next local search starts from.
+    // The tree chooses the signal's shape (where the input changes, and roughly to what); the
+    // local search moves the values off the dyadic levels into the bands between them, where the
+    // tree has stalled. Its simulations add nothing to the tree.
+    void keep_best() {
+      const std::size_t m = sims_.input_box().lo.size();
+      best_ends_.clear();
+      best_values_.clear();
+      for (const Step& s : path_) {
+        best_ends_.push_back(s.child == kLeaf ? sims_.pieces() : nodes_[s.child].piece);
+        const double* u = levels_[s.level].values.data() + static_cast<std::size_t>(s.action) * m;
+        best_values_.insert(best_values_.end(), u, u + m);
+      }
+    }
+
+    bool polish() {
+      const std::size_t m = sims_.input_box().lo.size();
+      // The free values: the last local_segments segments' (all: 0), the earlier ones held.
+      const std::size_t segments = best_ends_.size();
+      const std::size_t free = o_.local_segments == 0 ? segments : std::min(segments, o_.local_segments);
+      first_free_ = (segments - free) * m;
+      std::vector<double> x(best_values_.begin() + static_cast<std::ptrdiff_t>(first_free_), best_values_.end());
+      std::vector<double> lo(x.size()), hi(x.size());
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        lo[k] = sims_.input_box().lo[k % m];
+        hi[k] = sims_.input_box().hi[k % m];
+      }
+      struct State {
+        Pass* pass;
+        std::int64_t left;
+        double best;
+        std::vector<double> best_x;
+        std::optional<SearchOver> over;
+      } state{this, o_.local_budget, best_, {}, std::nullopt};
+      nlopt::opt opt(nlopt::LN_NELDERMEAD, static_cast<unsigned>(x.size()));
+      opt.set_lower_bounds(lo);
+      opt.set_upper_bounds(hi);
+      opt.set_min_objective(
+          [](const std::vector<double>& v, std::vector<double>&, void* data) {
+            auto* s = static_cast<State*>(data);
+            if (s->left <= 0) throw nlopt::forced_stop();
+            --s->left;
+            try {
+              const double rho = s->pass->simulate_values(v);
+              if (rho < s->best) {
+                s->best = rho;
+                s->best_x = v;
+              }
+              return std::isfinite(rho) ? rho : std::numeric_limits<double>::max();
+            } catch (const SearchOver& over) {
+              s->over = over;
+              throw nlopt::forced_stop();
+            }
+          },
+          &state);
+      std::vector<double> step(x.size());
+      for (std::size_t k = 0; k < x.size(); ++k) step[k] = o_.local_step * (hi[k] - lo[k]);
+      opt.set_initial_step(step);
+      ++local_searches_;
+      double value = 0.0;
+      try {
+        opt.optimize(x, value);
+      } catch (const std::exception&) {
+        // The search is over (re-thrown below), or the local budget or NLopt ended this one.
+      }
+      local_simulations_ += o_.local_budget - state.left;
+      if (state.over) throw *state.over;
+      if (!(state.best < best_)) return false;
+      best_ = state.best;
+      std::copy(state.best_x.begin(), state.best_x.end(), best_values_.begin() + static_cast<std::ptrdiff_t>(first_free_));
+      return true;
+    }
+
+    // One simulation of the best signal with its free values (from first_free_ on) set to v
+    // (segment-major), counted.
+    double simulate_values(const std::vector<double>& v) {
+      const std::size_t m = sims_.input_box().lo.size();
+      std::size_t from = 0;
+      for (std::size_t s = 0; s < best_ends_.size(); ++s) {
+        for (std::size_t k = from; k < best_ends_[s]; ++k)
+          for (std::size_t i = 0; i < m; ++i) {
+            const std::size_t at = s * m + i;
+            const double value = at < first_free_ ? best_values_[at] : v[at - first_free_];
+            slot_.pieces[k].u[i] = std::clamp(value, sims_.input_box().lo[i], sims_.input_box().hi[i]);
+          }
+        from = best_ends_[s];
+      }
+      sims_.check_budget();
+      sims_.simulate(slot_);
+      return sims_.account(slot_);
     }
 
     const AdaptiveOptions& o_;
@@ -379,7 +484,12 @@ class AdaptiveSearch final : public Planner {
     std::vector<Step> path_;
     std::vector<double> weights_;
     double horizon_;
-    std::int64_t passes_ = 0, pruned_ = 0;
+    std::int64_t passes_ = 0, pruned_ = 0, local_searches_ = 0, local_simulations_ = 0;
+    double best_ = std::numeric_limits<double>::infinity();
+    std::int64_t since_best_ = 0, wait_ = o_.local_after;
+    std::vector<std::size_t> best_ends_;  // the best signal: its segments' ends (pieces)
+    std::vector<double> best_values_;     // and their values, segment-major
+    std::size_t first_free_ = 0;          // the local search's first free value in best_values_
   };
 
   AdaptiveOptions o_;
@@ -390,22 +500,41 @@ void check_adaptive_system(const System& system, const Json& options) {
   check_signal_system(system, options.at("horizon").get<double>());
 }
 
+std::vector<OptionSpec> adaptive_options() {
+  return {{"budget", 1500, "passes per run, each at most one simulation (ARCH-COMP: 1500)", "[1, 100000000]"},
+          {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
+          {"cp", "2 2 3 3 3 4",
+           "segments per level (FalStar's control points): level l holds an input for horizon / cp_l s, a change taking "
+           "effect at the next multiple of δt; level l's values cost l (corners 0, n/2^k costs k, summed over inputs)"},
+          {"exploration", 0.25, "weight of the explore move (an untried action)", "(0, 1]"},
+          {"uniform", 0.25, "weight of the uniform move (a random kept child)", "[0, 1]"},
+          {"prefix", 0.25, "weight of the prefix move (the child with the lowest prefix robustness bound)", "[0, 1]"},
+          {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)", "[0, 1]"}};
+}
+
 }  // namespace
 
 MethodEntry adaptive_method() {
   return {"adaptive",
           "FalStar's probabilistically adaptive tree search (Ernst et al. 2019): input levels refined corners first, "
           "pruned by the prefix robustness bound",
-          {{"budget", 1500, "passes per run, each at most one simulation (ARCH-COMP: 1500)", "[1, 100000000]"},
-           {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
-           {"cp", "2 2 3 3 3 4",
-            "segments per level (FalStar's control points): level l holds an input for horizon / cp_l s, a change taking "
-            "effect at the next multiple of δt; level l's values cost l (corners 0, n/2^k costs k, summed over inputs)"},
-           {"exploration", 0.25, "weight of the explore move (an untried action)", "(0, 1]"},
-           {"uniform", 0.25, "weight of the uniform move (a random kept child)", "[0, 1]"},
-           {"prefix", 0.25, "weight of the prefix move (the child with the lowest prefix robustness bound)", "[0, 1]"},
-           {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)", "[0, 1]"}},
-          [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
+          adaptive_options(), [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
+          check_adaptive_system};
+}
+
+MethodEntry adaptive_local_method() {
+  std::vector<OptionSpec> options = adaptive_options();
+  options.push_back({"local_budget", 20, "simulations of each local search (Nelder-Mead over a new best pass's values)",
+                     "[1, 100000]"});
+  options.push_back({"local_step", 0.125, "the local search's first step, as a fraction of each input's range", "(0, 1]"});
+  options.push_back({"local_segments", 0, "the trailing segments whose values the local search moves (0: all)",
+                     "[0, 1000]"});
+  options.push_back({"local_after", 20, "passes in a row without a new best robustness before a local search from the best",
+                     "[1, 100000]"});
+  return {"adaptive-local",
+          "tree-optimiser hybrid: FalStar's adaptive tree chooses the signal's shape; where it stalls, the best signal "
+          "is polished by a short Nelder-Mead over its values (NLopt)",
+          std::move(options), [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
           check_adaptive_system};
 }
 

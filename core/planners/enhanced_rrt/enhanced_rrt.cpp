@@ -259,6 +259,23 @@ class EnhancedSearch {
     out_.trajectory = trajectory_from_tree(sys_, *slots_.front()->prop, t.nodes, leaf, p_);  // slot 0's propagator
   }
 
+  // A node that violates the STL requirement ends the search once the witness validator confirms
+  // it (confirmed_falsification, rrt_extension.hpp); a refused one stays a leaf (commit_monitored
+  // left it out of the index) and the search goes on. Reachability: the node with s <= 0 ends it.
+  void falsified_at(Tree& t, NodeId leaf) {
+    if (!info_.requirement) return finish_falsified(t, leaf);
+    double rho = 0.0;
+    std::optional<Trajectory> confirmed = confirmed_falsification(sys_, *slots_.front()->prop, t.nodes, leaf, p_, &rho);
+    if (!confirmed) {
+      ++refused_;
+      lowest_upper_ = std::min(lowest_upper_, rho);
+      return;
+    }
+    lowest_upper_ = std::min(lowest_upper_, stl::EdgeMonitor::bounds_of(t.nodes, leaf).upper);
+    out_.status = TrialStatus::falsified;
+    out_.trajectory = std::move(confirmed);
+  }
+
   // Alg. 3's secondary stop: Δc over the trailing N nodes below Δc_min.
   bool coverage_stalled() const {
     return coverage_ && o_.coverage_window > 0 && coverage_->nodes() > static_cast<std::size_t>(o_.coverage_window) &&
@@ -334,7 +351,7 @@ class EnhancedSearch {
       Slot& slot = *slots_[s];
       Tree& t = forest_[slot.tree];
       const NodeId leaf = commit(t, slot);
-      if (leaf != kNoNode) finish_falsified(t, leaf);
+      if (leaf != kNoNode) falsified_at(t, leaf);
     }
   }
 
@@ -363,6 +380,7 @@ class EnhancedSearch {
     if (o_.sampling == Sampling::adaptive) out_.metrics["excluded_nodes"] = excluded;
     out_.metrics["trees"] = forest_.size();
     if (info_.requirement) out_.metrics["robustness"] = lowest_upper_;
+    if (refused_ > 0) out_.metrics["refused_candidates"] = refused_;
     if (o_.record_failed_extensions) {  // seed 000 Fig. 6: n_j sorted in descending order
       std::sort(fails.begin(), fails.end(), std::greater<>());
       NamedSeries s{"failed_extensions_sorted", {}};
@@ -476,9 +494,9 @@ class EnhancedSearch {
                           double rho_before) {
     const PropagationResult& r = slot.results[chosen];
     const stl::PrefixBounds& b = slot.stl->finish_with(t.nodes, near, slot.rows[chosen]);
-    lowest_upper_ = std::min(lowest_upper_, b.upper);
+    if (!stl::EdgeMonitor::violated(b)) lowest_upper_ = std::min(lowest_upper_, b.upper);  // a violation: once confirmed
     const NodeId id = add_node(t, near, slot.q, r.mode, x_new, slot.U.input(chosen), r.duration, r.transition,
-                               slot.stl->state(), !stl::EdgeMonitor::settled(b));
+                               slot.stl->state(), !stl::EdgeMonitor::settled(b) && !stl::EdgeMonitor::violated(b));
     const bool successful = metric_.distance(x_new, slot.x_rand) < rho_before;
     if (o_.sampling == Sampling::adaptive) {
       if (slot.in_spec && !successful) t.excluded[near] = 1;
@@ -600,6 +618,7 @@ class EnhancedSearch {
   NamedSeries coverage_series_{"coverage", {}}, beta_series_{"beta", {}};
   std::deque<Tree> forest_;  // trees never move (their NN index points into their own storage)
   PlannerOutcome out_;
+  std::int64_t refused_ = 0;  // STL: violating nodes the witness validator refused
   double lowest_upper_ = std::numeric_limits<double>::infinity();  // STL: the lowest upper bound of any node
   std::int64_t iteration_ = 0;  // Alg. 3's iteration count (one per slot committed)
   bool stopped_ = false;        // a stop rule ended the search between two commits

@@ -726,7 +726,12 @@ class ForestSearch {
                                             static_cast<double>(t.grid->points()) *
                                                 t.grid->growth(static_cast<std::size_t>(o_.window)));
     }
-    if (r.reached_unsafe) t.leaf = r.node;
+    if (!r.reached_unsafe) return;
+    // An STL violation counts once the witness validator confirms it (rrt_extension.hpp); a
+    // refused node stays a leaf and the tree grows on. (Not counted in a metric: a tree may run
+    // rounds ahead of the barrier that the report drops, so a count would depend on scheduling.)
+    if (sys_.info().requirement && !confirmed_falsification(sys_, *t.prop, t.nodes, r.node, t.p, nullptr)) return;
+    t.leaf = r.node;
   }
 
   // A terminated tree never wins: free its search structures, keep its counters and series.

@@ -45,7 +45,7 @@ class Rrt final : public Planner {
 MethodEntry rrt_method() {
   return {"rrt",
           "baseline RRT (seed 000 Alg. 1-2): uniform x_rand, nearest node by the metric, best input of Ū",
-          {batch_option(), robustness_bias_option(), simulation_budget_option()},
+          {batch_option(), robustness_bias_option(), simulation_budget_option(), input_refinement_option()},
           [](const Json& o) { return std::make_unique<Rrt>(o.at("batch").get<std::size_t>(), StlSearchOptions::from(o)); },
           check_stl_search_options};
 }

@@ -31,6 +31,7 @@
 #include "core/nearest.hpp"
 #include "core/planner.hpp"
 #include "core/requirements/edge_monitor.hpp"
+#include "core/trajectory.hpp"
 #include "core/tree.hpp"
 
 namespace hyfal {
@@ -54,6 +55,13 @@ class RrtExtension {
     if (system.info().requirement) stl_.emplace(system);
   }
 
+  // Input refinement (option input_refinement = V > 0): each proposal from x_near tries V inputs
+  // of the dyadic refinement sequence, the next V each time x_near is selected again (its
+  // selection count: corners first, then midpoints, quarter points, ...), plus the input x_near
+  // was reached with, instead of Ū (InputGrid::refine). A node the search keeps returning to
+  // (robustness guidance returns to low bounds) so offers ever finer values. 0: Ū.
+  void refine_inputs(std::size_t values) { refine_ = values; }
+
   // One extension of `tree` (indexed by `nn`) toward x_rand, propagating with `prop` under the
   // parameters p over the suite's δt. Counts propagations, integration steps and the node added
   // into `counters`.
@@ -73,7 +81,11 @@ class RrtExtension {
     progress_ = false;
     const Mode q = tree.info(near).mode;
     const auto x_near = tree.state(near);
-    inputs_.draw(q, x_near, rng);
+    if (refine_ > 0)
+      inputs_.refine(q, x_near, tree.selections(near), refine_,
+                     tree.info(near).parent == kNoNode ? std::span<const double>() : tree.input(near));
+    else
+      inputs_.draw(q, x_near, rng);
     q_ = q;
     if (by_robustness && stl_) {
       propose_by_robustness(tree, prop, x_rand, p, counters);
@@ -203,6 +215,24 @@ class RrtExtension {
   PropagationResult best_r_;
   std::optional<stl::EdgeMonitor> stl_;  // with an STL requirement only
   std::vector<EvaluatedInput> evaluated_;  // the choice by robustness's candidates, one per input of Ū
+  std::size_t refine_ = 0;                 // input refinement: values per proposal (0: Ū)
 };
+
+// The falsification step every tree method shares under an STL requirement (rrt, rrt-dstar,
+// enhanced-rrt, each tree of RRFT): a node whose prefix robustness is bounded above by a
+// negative number falsifies once the witness validator confirms it, as an optimiser's candidate
+// does (core/signal_search.hpp). A node whose samples violate but whose re-simulation does not
+// (a bound within the sampling error of 0: CC2's -0.077 at 0.05 s steps, +0.093 re-simulated) is
+// refused: the node stays a leaf (RrtExtension::commit leaves a violating node out of the index)
+// and the search goes on. Returns the confirmed node's trajectory, or nullopt with the
+// validator's robustness for it (at least 0) in *refused_rho.
+inline std::optional<Trajectory> confirmed_falsification(const System& sys, Propagator& prop, const NodeStore& tree,
+                                                         NodeId leaf, std::span<const double> p, double* refused_rho) {
+  Trajectory t = trajectory_from_tree(sys, prop, tree, leaf, p);
+  const ValidationReport v = validate_witness(sys, make_witness(sys, "", 0, t));
+  if (v.valid) return t;
+  if (refused_rho) *refused_rho = v.robustness ? std::max(*v.robustness, 0.0) : 0.0;
+  return std::nullopt;
+}
 
 }  // namespace hyfal

@@ -134,12 +134,24 @@ inline void check_stl_search_options(const System& system, const Json& options) 
   }
 }
 
-// The STL options the rrt loop takes (robustness_bias_option, simulation_budget_option).
+// Input refinement (RrtExtension::refine_inputs): values offered per extension.
+inline OptionSpec input_refinement_option() {
+  return {"input_refinement", 0,
+          "V > 0: an extension tries V inputs of the dyadic refinement sequence (corners, then midpoints, then "
+          "quarter points, ...), the next V each time its node is selected again, plus the input the node was "
+          "reached with, instead of the suite's grid Ū; 0 = Ū (the paper's step)",
+          "[0, 64]"};
+}
+
+// The STL options the rrt loop takes (robustness_bias_option, simulation_budget_option,
+// input_refinement_option).
 struct StlSearchOptions {
   double robustness_bias = 0.0;
   std::int64_t budget = 0;  // simulation-equivalents; 0 = no cap
+  std::size_t input_refinement = 0;
   static StlSearchOptions from(const Json& o) {
-    return {o.at("robustness_bias").get<double>(), o.at("budget").get<std::int64_t>()};
+    return {o.at("robustness_bias").get<double>(), o.at("budget").get<std::int64_t>(),
+            o.contains("input_refinement") ? o.at("input_refinement").get<std::size_t>() : 0};
   }
 };
 
@@ -191,21 +203,18 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   };
   if (starts_unsafe(sys, info.initial_mode, info.initial_state, p)) return finish(root, TrialStatus::falsified);
   // The new node r (added): true when the search ends at it, falsified. An STL falsification
-  // counts once the witness validator confirms it, as the optimisers' (optimizers.cpp,
-  // confirmed()): a node whose samples violate but whose re-simulation does not (a bound within
-  // the sampling error of 0: CC2's -0.077 at 0.05 s steps, +0.093 re-simulated) is refused, stays
-  // a leaf (commit() left it out of the index, and it is not in the tournament), and the search
-  // goes on. Otherwise r is indexed for robustness guidance unless settled.
+  // counts once the witness validator confirms it (confirmed_falsification, rrt_extension.hpp);
+  // a refused node stays a leaf (not in the tournament either). Otherwise r is indexed for
+  // robustness guidance unless settled.
   const auto falsifies = [&](const RrtExtensionResult& r, const RrtExtension& from) {
     if (r.reached_unsafe && info.requirement) {
-      Trajectory t = trajectory_from_tree(sys, *prop, tree, r.node, p);
-      const ValidationReport v = validate_witness(sys, make_witness(sys, "", 0, t));
-      if (!v.valid) {
+      double rho = 0.0;
+      confirmed = confirmed_falsification(sys, *prop, tree, r.node, p, &rho);
+      if (!confirmed) {
         ++refused;
-        lowest.refused(v.robustness ? std::max(*v.robustness, 0.0) : 0.0);
+        lowest.refused(rho);
         return false;
       }
-      confirmed = std::move(t);
     }
     lowest.saw(r, from);
     if (!r.settled && !r.reached_unsafe) guided.indexed(r.node);
@@ -215,14 +224,16 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   if (batch > 1) {
     // One scratch per slot: its step (input grid, state buffers), propagator and counters.
     struct Slot {
-      Slot(const System& s, const WeightedEuclidean& m) : step(s, m), prop(s.make_propagator()) {}
+      Slot(const System& s, const WeightedEuclidean& m, std::size_t refine) : step(s, m), prop(s.make_propagator()) {
+        step.refine_inputs(refine);
+      }
       RrtExtension step;
       std::unique_ptr<Propagator> prop;
       PlannerCounters counters;
     };
     std::vector<std::unique_ptr<Slot>> slots;
     for (std::size_t s = 0; s < batch; ++s) {
-      slots.push_back(std::make_unique<Slot>(sys, metric));
+      slots.push_back(std::make_unique<Slot>(sys, metric, stl.input_refinement));
       slots.back()->prop->set_interrupt(budget.interrupt());
     }
     std::vector<double> x_rands(batch * n);
@@ -259,6 +270,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
 
   std::vector<double> x_rand(n);
   RrtExtension step(sys, metric);
+  step.refine_inputs(stl.input_refinement);
   while (true) {
     if (auto why = exhausted()) return finish(std::nullopt, *why);
     const std::optional<NodeId> from = guided.draw(rng, tree);

@@ -90,7 +90,7 @@ MethodEntry rrt_dstar_method() {
            {"uniform_mix", 0.1, "fraction of plain uniform draws of x_rand", "[0, 1]"},
            {"refresh", 50, "iterations between recomputations of the cell weights", "[1, 1000000]"},
            {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2", "(0, 1]"},
-           batch_option(), robustness_bias_option(), simulation_budget_option()},
+           batch_option(), robustness_bias_option(), simulation_budget_option(), input_refinement_option()},
           [](const Json& o) { return std::make_unique<RrtDstar>(parse_options(o)); },
           check_stl_search_options};
 }
