@@ -59,7 +59,7 @@ std::vector<MatrixInstance> instances() {
 // The optimisation falsifiers (core/planners/optimizers/): they minimise an STL requirement's
 // robustness, so a reachability instance is refused.
 bool is_optimizer(const MethodEntry& m) {
-  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name == "adaptive";
+  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name.starts_with("adaptive");
 }
 
 std::string describe(const MatrixInstance& in, const MethodEntry& m) {

@@ -112,7 +112,7 @@ std::vector<StlCase> stl_cases() {
 
 // The signal searches (core/signal_search.hpp): the optimisers and FalStar's adaptive search.
 bool is_optimizer(const MethodEntry& m) {
-  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name == "adaptive";
+  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name.starts_with("adaptive");
 }
 
 // Whether an optimiser can take the case (check_system), known from the case itself: the thermostat's
