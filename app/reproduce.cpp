@@ -16,6 +16,7 @@
 
 #include "app/experiment_file.hpp"
 #include "app/plot.hpp"
+#include "core/requirements/requirement.hpp"
 #include "results/league_report.hpp"
 #include "results/paper_report.hpp"
 #include "results/sweep_report.hpp"
@@ -288,7 +289,12 @@ int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const Tabl
   std::vector<std::vector<std::vector<TrialRecord>>> trials(l.rows.size(),
                                                             std::vector<std::vector<TrialRecord>>(l.columns.size()));
   for (std::size_t k = 0; k < groups.size(); ++k) trials[places[k].first][places[k].second] = run_info->trials[k];
-  const LeagueReport report = make_league_report(table, trials, run);
+  // Each row's threshold scale, from its requirement (any of its cells' systems: they share it).
+  std::vector<double> scales(l.rows.size(), 0.0);
+  for (std::size_t k = 0; k < groups.size(); ++k)
+    if (const auto& requirement = groups[k].system->info().requirement)
+      scales[places[k].first] = stl::threshold_scale(requirement->formula);
+  const LeagueReport report = make_league_report(table, trials, run, scales);
   ReportHeader header = make_header(a, profile, run_info->engine, experiment);
   for (const auto& cells : run_info->trials) add_cpu_time(header, cells);
   const std::string markdown = to_markdown(report, header);

@@ -15,7 +15,7 @@ namespace {
 
 using namespace text;
 
-LeagueCell make_cell(const std::vector<TrialRecord>& trials) {
+LeagueCell make_cell(const std::vector<TrialRecord>& trials, double scale) {
   LeagueCell cell;
   cell.run = true;
   std::vector<double> simulations, nodes, wall, robustness;
@@ -35,6 +35,8 @@ LeagueCell make_cell(const std::vector<TrialRecord>& trials) {
     const std::vector<double> sims = metric_values(one, "simulations");
     const std::vector<double> rob = metric_values(one, "robustness");
     if (!rob.empty() && std::isfinite(rob.front())) robustness.push_back(rob.front());
+    if (t.status == TrialStatus::falsified && scale > 0.0 && !rob.empty() && std::abs(rob.front()) <= 0.01 * scale)
+      ++cell.near_threshold;
     if (sims.empty()) continue;
     cell.observations.push_back({sims.front(), t.status != TrialStatus::falsified});
     if (t.status == TrialStatus::falsified) {
@@ -213,6 +215,32 @@ std::string verdict_lines(const LeagueReport& r) {
   return md;
 }
 
+// Per cell, how many witnesses lie within 1 % of the row's threshold scale (only where the rows'
+// scales are known): ARCH-COMP re-simulates every falsifying input on the reference model, and a
+// witness that close to 0 may not survive another simulator (the option `margin` asks for more).
+std::string near_threshold_section(const LeagueReport& r) {
+  bool any = false;
+  for (std::size_t i = 0; i < r.cells.size(); ++i)
+    any = any || (r.threshold_scale[i] > 0.0 && !r.cells[i].empty() && r.cells[i].front().run);
+  if (!any) return "";
+  std::string md = "\n## Witnesses near the threshold\n\nPer cell: of the falsifying runs, how many found a witness whose "
+                   "robustness lies within 1 % of the requirement's threshold scale (its largest constant; e.g. AT2's "
+                   "4750 rpm: 47.5), which a simulator a little off could refute; `margin` (a suite parameter) asks a "
+                   "falsification to clear a margin. A requirement over signals of different units (AT6's rpm and "
+                   "speed) gets its largest constant's scale: a crude measure there.\n\n| requirement | 1 % of the scale |";
+  for (const LeagueColumn& c : r.league.columns) md += " " + c.label + " |";
+  md += "\n| --- | --: |";
+  for (std::size_t c = 0; c < r.league.columns.size(); ++c) md += " --: |";
+  md += "\n";
+  for (std::size_t i = 0; i < r.league.rows.size(); ++i) {
+    if (r.cells[i].empty() || !r.cells[i].front().run || !(r.threshold_scale[i] > 0.0)) continue;
+    md += fmt::format("| {} | {} |", r.league.rows[i].label, format_significant(0.01 * r.threshold_scale[i]));
+    for (const LeagueCell& cell : r.cells[i]) md += fmt::format(" {} of {} |", cell.near_threshold, cell.falsified);
+    md += "\n";
+  }
+  return md;
+}
+
 std::string published_section(const LeagueReport& r) {
   std::vector<std::size_t> rows;
   for (std::size_t i = 0; i < r.league.rows.size(); ++i) {
@@ -253,18 +281,21 @@ std::string p_or_empty(const SampleComparison& c) {
 }  // namespace
 
 LeagueReport make_league_report(const PaperTable& table, const std::vector<std::vector<std::vector<TrialRecord>>>& trials,
-                                const std::vector<bool>& run) {
+                                const std::vector<bool>& run, const std::vector<double>& threshold_scale) {
   if (!table.league) throw std::invalid_argument("make_league_report: the table is not a league");
   const TableLeague& l = *table.league;
   if (trials.size() != l.rows.size() || run.size() != l.rows.size())
     throw std::invalid_argument("make_league_report: one list of cells per row expected");
-  LeagueReport r{table.id, table.title, table.source, table.notes, l, {}, {}};
+  if (!threshold_scale.empty() && threshold_scale.size() != l.rows.size())
+    throw std::invalid_argument("make_league_report: one threshold scale per row expected");
+  LeagueReport r{table.id, table.title, table.source, table.notes, l, {}, {}, {}};
+  r.threshold_scale = threshold_scale.empty() ? std::vector<double>(l.rows.size(), 0.0) : threshold_scale;
   for (std::size_t i = 0; i < l.rows.size(); ++i) {
     if (trials[i].size() != l.columns.size())
       throw std::invalid_argument("make_league_report: one cell per column expected");
     std::vector<LeagueCell> row(l.columns.size());
     if (run[i])
-      for (std::size_t c = 0; c < l.columns.size(); ++c) row[c] = make_cell(trials[i][c]);
+      for (std::size_t c = 0; c < l.columns.size(); ++c) row[c] = make_cell(trials[i][c], r.threshold_scale[i]);
     r.verdicts.push_back(row_verdicts(row));
     r.cells.push_back(std::move(row));
   }
@@ -272,14 +303,15 @@ LeagueReport make_league_report(const PaperTable& table, const std::vector<std::
 }
 
 std::string to_markdown(const LeagueReport& r, const ReportHeader& header) {
-  return header_text(r, header) + league_table(r) + verdict_lines(r) + published_section(r) + statistics_table(r);
+  return header_text(r, header) + league_table(r) + verdict_lines(r) + near_threshold_section(r) + published_section(r) +
+         statistics_table(r);
 }
 
 std::string to_csv(const LeagueReport& r, const ReportHeader& header) {
   std::string csv =
       "table,profile,source,row,suite,column,method,n,falsified,validated,falsified_rate,budget_stops,timeouts,errors,"
       "simulations_mean,simulations_median,simulations_std,simulations_ci_low,simulations_ci_high,nodes_mean,"
-      "time_mean_s,robustness_median,leader,simulations_verdict,simulations_p,rate_verdict,rate_p\r\n";
+      "time_mean_s,robustness_median,leader,simulations_verdict,simulations_p,rate_verdict,rate_p,near_threshold\r\n";
   for (std::size_t i = 0; i < r.league.rows.size(); ++i) {
     const LeagueRow& row = r.league.rows[i];
     if (r.cells[i].empty() || !r.cells[i].front().run) continue;
@@ -297,16 +329,17 @@ std::string to_csv(const LeagueReport& r, const ReportHeader& header) {
       csv += fmt::format(",{},{},{},{},{},{},{},{}", csv_number(s.mean), csv_number(s.median), csv_number(s.stddev),
                          csv_number(s.ci_low), csv_number(s.ci_high), csv_number(cell.nodes.mean),
                          csv_number(cell.wall_s.mean), csv_number(cell.robustness.median));
-      csv += fmt::format(",{},{},{},{},{}\r\n", leader ? "true" : "false",
+      csv += fmt::format(",{},{},{},{},{},{}\r\n", leader ? "true" : "false",
                          leader || v.leader < 0 ? "" : verdict_word_or_empty(cmp.simulations, ComparedMeasure::nodes),
                          leader || v.leader < 0 ? "" : p_or_empty(cmp.simulations),
                          leader || v.leader < 0 ? "" : verdict_word_or_empty(cmp.rate, ComparedMeasure::falsified),
-                         leader || v.leader < 0 ? "" : p_or_empty(cmp.rate));
+                         leader || v.leader < 0 ? "" : p_or_empty(cmp.rate),
+                         r.threshold_scale[i] > 0.0 ? std::to_string(cell.near_threshold) : std::string());
     }
     for (const PublishedTool& t : r.league.published) {
       const PublishedCell* p = published_cell(t, row.label);
       if (!p) continue;
-      csv += fmt::format("{},{},{},{},{},{},,{},{},,{},,,,{},{},,,,,{},,,,,,\r\n", csv_field(r.id), csv_field(header.profile),
+      csv += fmt::format("{},{},{},{},{},{},,{},{},,{},,,,{},{},,,,,{},,,,,,,\r\n", csv_field(r.id), csv_field(header.profile),
                          csv_field(t.label), csv_field(row.label), csv_field(row.suite), csv_field(t.label), p->runs,
                          p->falsified, csv_number(static_cast<double>(p->falsified) / p->runs),
                          csv_number(p->mean_simulations), csv_number(p->median_simulations), csv_number(p->mean_s));

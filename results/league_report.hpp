@@ -23,6 +23,9 @@ struct LeagueCell {
   SampleSummary nodes;        // of the falsified runs (a tree's nodes; an optimiser's evaluations)
   SampleSummary wall_s;       // every run but errors
   SampleSummary robustness;   // every run but errors: the witness's, else the lowest bound found
+  // Falsified runs whose witness's robustness lies within 1 % of the row's threshold scale
+  // (LeagueReport::threshold_scale): witnesses a simulator a little off could refute.
+  std::size_t near_threshold = 0;
   // Simulations of every run but errors, a run that did not falsify censored at what it had.
   std::vector<CensoredValue> observations;
   std::vector<CensoredValue> falsified_indicators;
@@ -43,12 +46,15 @@ struct LeagueReport {
   TableLeague league;
   std::vector<std::vector<LeagueCell>> cells;  // [row][column]
   std::vector<LeagueRowVerdicts> verdicts;      // per row
+  // Per row: its requirement's threshold scale (stl::threshold_scale; 0: not known, no count).
+  std::vector<double> threshold_scale;
 };
 
-// trials[row][column]: the trials of that cell; `run[row]` whether the profile ran the row.
-// Throws std::invalid_argument when the shape does not match the league.
+// trials[row][column]: the trials of that cell; `run[row]` whether the profile ran the row;
+// threshold_scale[row] (optional: empty, or one per row) the scale its witnesses are measured
+// against. Throws std::invalid_argument when the shape does not match the league.
 LeagueReport make_league_report(const PaperTable& table, const std::vector<std::vector<std::vector<TrialRecord>>>& trials,
-                                const std::vector<bool>& run);
+                                const std::vector<bool>& run, const std::vector<double>& threshold_scale = {});
 
 // Markdown: the header, the league (rows x columns, "k/n · mean (median)" simulations), the
 // statistics of every cell, the verdicts per row, and the published tools beside ours where they
@@ -59,8 +65,9 @@ std::string to_markdown(const LeagueReport& report, const ReportHeader& header);
 // table,profile,source,row,suite,column,method,n,falsified,validated,falsified_rate,budget_stops,
 // timeouts,errors,simulations_mean,simulations_median,simulations_std,simulations_ci_low,
 // simulations_ci_high,nodes_mean,time_mean_s,robustness_median,leader,simulations_verdict,
-// simulations_p,rate_verdict,rate_p (source "hyfal", or the published tool's label with the
-// verdict fields empty; NaN an empty field).
+// simulations_p,rate_verdict,rate_p,near_threshold (source "hyfal", or the published tool's label
+// with the verdict fields empty; NaN an empty field; near_threshold empty where the row's scale is
+// not known).
 std::string to_csv(const LeagueReport& report, const ReportHeader& header);
 
 }  // namespace hyfal

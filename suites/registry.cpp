@@ -9,16 +9,23 @@ namespace hyfal {
 
 namespace {
 
-// Every suite's last instance parameter: the STL requirement to falsify. Empty (the default) is
+// Every suite's last instance parameters: the STL requirement to falsify and its margin. Empty (the default) is
 // reachability of the suite's unsafe set, and is left out of the instance key (unkeyed_value),
 // so the keys (and the trial seeds drawn from them) of every reachability run stay as they were.
 SuiteEntry with_requirement_parameter(SuiteEntry s) {
+  // Left out of the key at 0 (every run before the parameter existed).
+  s.parameters.push_back({"margin", 0.0,
+                          "STL requirements: a run falsifies only at robustness <= -margin (every comparison of the "
+                          "requirement tightened by it, formula.hpp with_margin), so a witness survives a simulator a "
+                          "little off; robustness is then reported for the tightened requirement",
+                          "[0, 1e12]", 0.0});
   s.parameters.push_back({"requirement", "",
                           "STL requirement to falsify: the id of one the suite declares (hyfal list) or a formula over "
                           "its signals (docs/requirements.md); empty: reach the unsafe set",
                           "", ""});
   s.make = [make = std::move(s.make), parameters = s.parameters](const Json& instance) {
-    return stl::with_requirement(make(canonical_instance(parameters, instance)), instance.value("requirement", std::string()));
+    return stl::with_requirement(make(canonical_instance(parameters, instance)), instance.value("requirement", std::string()),
+                                 instance.value("margin", 0.0));
   };
   return s;
 }

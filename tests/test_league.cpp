@@ -190,12 +190,32 @@ TEST(LeagueReport, TheLeaderFalsifiesMostAndTheOthersAreTestedOnCensoredSimulati
   for (std::size_t at = 0; at < csv.size();) {
     const std::size_t end = csv.find("\r\n", at);
     const std::string line = csv.substr(at, end - at);
-    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 26) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 27) << line;
     at = end + 2;
     ++lines;
   }
   EXPECT_EQ(lines, 4u);  // header, two cells, one published
   EXPECT_NE(csv.find("tiny-league,smoke,P,A,thermostat,P,,5,3,,0.6,"), std::string::npos) << csv;
+  EXPECT_EQ(md.find("## Witnesses near the threshold"), std::string::npos) << "no scales given: no section";
+
+  // With a threshold scale per row: a falsifying run whose robustness lies within 1 % of it is
+  // counted (|-0.5| <= 1 for a scale of 100; -5 is not), the others are not.
+  std::vector<std::vector<std::vector<TrialRecord>>> near(2, std::vector<std::vector<TrialRecord>>(2));
+  for (const char* m : {R"({"simulations": 2, "robustness": -0.5})", R"({"simulations": 3, "robustness": -5})",
+                        R"({"simulations": 4, "robustness": -1})"}) {
+    TrialRecord t = run_of(TrialStatus::falsified, 1.0);
+    t.metrics = m;
+    near[0][1].push_back(t);
+  }
+  TrialRecord capped = run_of(TrialStatus::node_cap, 100.0);
+  capped.metrics = R"({"simulations": 100, "robustness": 0.2})";
+  near[0][0].push_back(capped);
+  const LeagueReport rn = make_league_report(t, near, {true, false}, {100.0, 40.0});
+  EXPECT_EQ(rn.cells[0][1].near_threshold, 2u);
+  EXPECT_EQ(rn.cells[0][0].near_threshold, 0u);  // not falsified: not a witness
+  const std::string mdn = to_markdown(rn, h);
+  EXPECT_NE(mdn.find("| A | 1.00 | 0 of 0 | 2 of 3 |"), std::string::npos) << mdn;
+  EXPECT_NE(to_csv(rn, h).find(",2\r\n"), std::string::npos);
 }
 
 // A tree given a budget stops once its simulated time reaches budget x the requirement's horizon

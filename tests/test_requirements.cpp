@@ -572,6 +572,41 @@ TEST(PrefixRobustness, ClosedAtTheLastTimeBoundsEveryLaterExtension) {
               extensions, tighter, formulas);
 }
 
+// A requirement tightened by a margin m (with_margin) has robustness ρ + m on every trace, and
+// prefix bounds moved by m, for every operator and relation (== and != included, under not and
+// left of ->); its text parses back to the same robustness.
+TEST(Margin, ShiftsRobustnessByTheMarginOnRandomFormulasAndTraces) {
+  std::mt19937_64 rng(seed_or(17));
+  const std::vector<std::string> names{"a", "b"};
+  const int formulas = scaled(2000);
+  for (int k = 0; k < formulas; ++k) {
+    const Formula f = parse_requirement(random_formula(rng, 1 + static_cast<int>(rng() % 4)), names);
+    const double m = (k % 3 == 0) ? 0.25 : 1.5 + static_cast<double>(rng() % 7);
+    const Formula g = with_margin(f, m);
+    const Formula reparsed = parse_requirement(g.text, names);
+    const RandomTrace trace = random_trace(rng, 1 + rng() % 25);
+    OfflineMonitor of(f), og(g), orp(reparsed);
+    const double rf = of.robustness({trace.t, trace.values});
+    const double rg = og.robustness({trace.t, trace.values});
+    const double rr = orp.robustness({trace.t, trace.values});
+    if (std::isfinite(rf)) {
+      ASSERT_NEAR(rg, rf + m, 1e-9 * (1.0 + std::abs(rf))) << to_string(f) << " -> " << g.text;
+      ASSERT_NEAR(rr, rg, 1e-9 * (1.0 + std::abs(rg))) << g.text;
+    } else {
+      ASSERT_EQ(rg, rf) << to_string(f);
+    }
+    const Interval bf = of.robustness_interval({trace.t, trace.values}, false);
+    const Interval bg = og.robustness_interval({trace.t, trace.values}, false);
+    if (std::isfinite(bf.lower)) ASSERT_NEAR(bg.lower, bf.lower + m, 1e-9 * (1.0 + std::abs(bf.lower))) << g.text;
+    if (std::isfinite(bf.upper)) ASSERT_NEAR(bg.upper, bf.upper + m, 1e-9 * (1.0 + std::abs(bf.upper))) << g.text;
+  }
+  // By hand: AT2's atom moves toward its violation; gear == 3 becomes a band.
+  const std::vector<std::string> at{"y2", "y3"};
+  EXPECT_EQ(with_margin(parse_requirement("always[0,10] (y2 < 4750)", at), 20).text, "(always[0,10] (y2 < (4750 + 20)))");
+  EXPECT_EQ(with_margin(parse_requirement("not (y3 == 3)", at), 0.25).text,
+            "(not (((y3 - 3) >= (-0.25)) and ((y3 - 3) <= 0.25)))");
+}
+
 // Feeds (time, y1) samples one by one, non-final; returns every step's bounds.
 std::vector<PrefixBounds> feed(PrefixMonitor& m, const std::vector<std::pair<double, double>>& samples) {
   std::vector<double> state, child;

@@ -437,6 +437,91 @@ Formula parse_requirement(std::string_view text, std::span<const std::string> si
 
 std::string to_string(const Formula& f) { return f.nodes.empty() ? std::string() : formula_text(f, f.root()); }
 
+double threshold_scale(const Formula& f) {
+  double scale = 0.0;
+  for (const ExpressionNode& e : f.expressions)
+    if (e.kind == ExpressionNode::Kind::constant) scale = std::max(scale, std::abs(e.value));
+  return scale;
+}
+
+Formula with_margin(const Formula& f, double margin) {
+  if (f.nodes.empty() || margin == 0.0) return f;
+  // Polarity of each node: +1 where its robustness enters the root's with a + sign.
+  std::vector<int> polarity(f.nodes.size(), 1);
+  for (int i = f.root(); i >= 0; --i) {
+    const FormulaNode& n = f.nodes[static_cast<std::size_t>(i)];
+    const int p = polarity[static_cast<std::size_t>(i)];
+    if (n.op == Operator::compare) continue;
+    if (n.left >= 0) polarity[static_cast<std::size_t>(n.left)] = n.op == Operator::negation || n.op == Operator::implication ? -p : p;
+    if (n.right >= 0) polarity[static_cast<std::size_t>(n.right)] = p;
+  }
+  Formula out;
+  out.signals = f.signals;
+  out.expressions = f.expressions;
+  const auto constant = [&](double v) {
+    out.expressions.push_back({ExpressionNode::Kind::constant, -1, -1, v, -1});
+    return static_cast<int>(out.expressions.size()) - 1;
+  };
+  const auto binary = [&](ExpressionNode::Kind kind, int l, int r) {
+    out.expressions.push_back({kind, l, r, 0.0, -1});
+    return static_cast<int>(out.expressions.size()) - 1;
+  };
+  const auto push = [&](FormulaNode n) {
+    out.nodes.push_back(n);
+    return static_cast<int>(out.nodes.size()) - 1;
+  };
+  std::vector<int> moved(f.nodes.size(), -1);  // old node index -> new
+  for (std::size_t i = 0; i < f.nodes.size(); ++i) {
+    FormulaNode n = f.nodes[i];
+    if (n.op != Operator::compare) {
+      if (n.left >= 0) n.left = moved[static_cast<std::size_t>(n.left)];
+      if (n.right >= 0) n.right = moved[static_cast<std::size_t>(n.right)];
+      moved[i] = push(n);
+      continue;
+    }
+    const double pm = polarity[i] * margin;
+    const auto compare = [&](int lhs, Relation relation, int rhs) {
+      FormulaNode c{Operator::compare};
+      c.lhs = lhs;
+      c.rhs = rhs;
+      c.relation = relation;
+      return push(c);
+    };
+    switch (n.relation) {
+      case Relation::less:
+      case Relation::less_equal:  // ρ = e2 − e1
+        moved[i] = compare(n.lhs, n.relation, binary(ExpressionNode::Kind::add, n.rhs, constant(pm)));
+        break;
+      case Relation::greater:
+      case Relation::greater_equal:  // ρ = e1 − e2
+        moved[i] = compare(binary(ExpressionNode::Kind::add, n.lhs, constant(pm)), n.relation, n.rhs);
+        break;
+      case Relation::equal: {  // min(d + 0.5 + pm, 0.5 + pm − d)
+        const int d = binary(ExpressionNode::Kind::subtract, n.lhs, n.rhs);
+        const int a = compare(d, Relation::greater_equal, constant(-(0.5 + pm)));
+        const int b = compare(d, Relation::less_equal, constant(0.5 + pm));
+        FormulaNode both{Operator::conjunction};
+        both.left = a;
+        both.right = b;
+        moved[i] = push(both);
+        break;
+      }
+      case Relation::not_equal: {  // max(d − 0.5 + pm, −0.5 + pm − d)
+        const int d = binary(ExpressionNode::Kind::subtract, n.lhs, n.rhs);
+        const int a = compare(d, Relation::greater, constant(0.5 - pm));
+        const int b = compare(d, Relation::less, constant(-0.5 + pm));
+        FormulaNode either{Operator::disjunction};
+        either.left = a;
+        either.right = b;
+        moved[i] = push(either);
+        break;
+      }
+    }
+  }
+  out.text = to_string(out);
+  return out;
+}
+
 double Formula::horizon() const { return nodes.empty() ? 0.0 : horizon_of(*this, root()); }
 
 double Formula::horizon(int node) const { return horizon_of(*this, node); }

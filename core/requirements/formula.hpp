@@ -85,4 +85,19 @@ Formula parse_requirement(std::string_view text, std::span<const std::string> si
 // The formula written back in the notation above, fully parenthesized (parse(print(f)) == f).
 std::string to_string(const Formula& f);
 
+// φ tightened by `margin` m: a formula whose robustness is ρ(φ) + m on every trace, so that it is
+// violated exactly where φ's robustness is below −m (the option `margin`: a witness that survives
+// a re-simulation a little off). Each comparison moves by m toward its violation, in the direction
+// its polarity asks (under `not` or left of `->` the other way): e1 < e2 becomes e1 < e2 + m, and
+// an equality e1 == e2, whose robustness 0.5 − |e1 − e2| is min(d + 0.5, 0.5 − d) with d = e1 − e2,
+// becomes (d >= −(0.5 + m)) and (d <= 0.5 + m); e1 != e2 likewise. min, max and the temporal
+// operators commute with adding a constant, so the shift reaches the root unchanged. text is
+// to_string of the result.
+Formula with_margin(const Formula& f, double margin);
+
+// The scale of a requirement's thresholds: the largest |constant| in its comparisons (AT2's 4750
+// rpm, CC1's 40 m; 0 when it has none). A witness whose robustness lies within 1 % of it is one a
+// simulator a little off could refute (the league's "near the threshold" count).
+double threshold_scale(const Formula& f);
+
 }  // namespace hyfal::stl

@@ -115,10 +115,20 @@ Requirement resolve_requirement(const SystemInfo& info, std::string_view value) 
   return r;
 }
 
-std::shared_ptr<const System> with_requirement(std::shared_ptr<const System> inner, std::string_view value) {
-  if (value.empty()) return inner;
+std::shared_ptr<const System> with_requirement(std::shared_ptr<const System> inner, std::string_view value,
+                                               double margin) {
+  if (!(margin >= 0.0 && std::isfinite(margin))) throw std::invalid_argument("margin must be a finite number >= 0");
+  if (value.empty()) {
+    if (margin > 0.0) throw std::invalid_argument("margin > 0 needs an STL requirement (--set requirement=...)");
+    return inner;
+  }
   SystemInfo info = inner->info();
-  info.requirement = std::make_shared<const Requirement>(resolve_requirement(info, value));
+  Requirement requirement = resolve_requirement(info, value);
+  if (margin > 0.0) {
+    requirement.formula = with_margin(requirement.formula, margin);
+    requirement.text = requirement.formula.text;
+  }
+  info.requirement = std::make_shared<const Requirement>(std::move(requirement));
   info.instance["requirement"] = std::string(value);
   return std::make_shared<MonitoredSystem>(std::move(inner), std::move(info));
 }

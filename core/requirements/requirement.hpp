@@ -40,7 +40,12 @@ Requirement resolve_requirement(const SystemInfo& info, std::string_view value);
 
 // The system `inner` with info().requirement set (and the requirement's text in info().instance,
 // so a witness names it); everything else is inner's. An empty value returns inner unchanged.
-std::shared_ptr<const System> with_requirement(std::shared_ptr<const System> inner, std::string_view value);
+// margin > 0: the requirement tightened by it (with_margin, formula.hpp): a run then falsifies
+// only at robustness <= -margin of the requirement as given, and the requirement's text, which a
+// witness names and the validator checks, is the tightened formula. Throws std::invalid_argument
+// for a margin without a requirement, or one that is negative or not finite.
+std::shared_ptr<const System> with_requirement(std::shared_ptr<const System> inner, std::string_view value,
+                                               double margin = 0.0);
 
 // Turns the states a propagation visits into monitor samples: rows of (time, then the
 // requirement's signals in formula order), appended to `rows`. Times are the trace's clock: the
