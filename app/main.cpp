@@ -560,6 +560,11 @@ void add_simulate_command(CommandLine& c) {
                 "time,throttle,brake for at: see 'hyfal list')")
       ->required();
   s->add_option("--trace", c.simulate_args.trace, "write the trace (time and every signal) as CSV to this file; - for stdout");
+  s->add_option("--interpolation", c.simulate_args.interpolation,
+                "zoh: each row's input is held until the next row (the default, the searches' signals); linear: the rows "
+                "are control points joined by straight lines (S-TaLiRo's and Breach's default, and the MathWorks AT "
+                "trace's), simulated as pieces of the integrator's step at the line's midpoint values")
+      ->check(CLI::IsMember({"zoh", "linear"}));
 }
 
 // witness FILE --format arch-csv [-o OUT]

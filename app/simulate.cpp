@@ -92,7 +92,7 @@ std::string accepted_input_names(const SystemInfo& info) { return accepted_input
 
 std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std::vector<std::string>& inputs,
                                              const Box& box, const std::string& where,
-                                             const std::vector<std::vector<std::string>>& aliases) {
+                                             const std::vector<std::vector<std::string>>& aliases, double linear_step) {
   std::istringstream in(text);
   std::string line;
   std::vector<std::pair<double, std::vector<double>>> rows;
@@ -143,6 +143,15 @@ std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std:
     rows.emplace_back(t, std::move(u));
   }
   if (rows.size() < 2) throw UsageError(fmt::format("'{}': at least two rows are needed (a start and an end time)", where));
+  if (linear_step > 0.0) {  // the rows are control points of a linear signal
+    std::vector<double> times;
+    std::vector<std::vector<double>> values;
+    for (auto& [t, u] : rows) {
+      times.push_back(t);
+      values.push_back(u);
+    }
+    return stl::linear_signal_pieces(times, values, linear_step);
+  }
   std::vector<stl::InputPiece> pieces;
   for (std::size_t k = 0; k + 1 < rows.size(); ++k) pieces.push_back({rows[k + 1].first - rows[k].first, rows[k].second});
   return pieces;
@@ -151,8 +160,11 @@ std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std:
 int cmd_simulate(const SimulateArgs& args) {
   const auto system = make_system(args.suite, args.sets);
   const SystemInfo& info = system->info();
+  // Linear: pieces of the integrator's step (its largest, for an adaptive one), each holding the
+  // line's midpoint value.
+  const double linear_step = args.interpolation == "linear" ? std::min(info.integrator.max_step, info.integrator.step) : 0.0;
   const auto pieces = parse_input_csv(read_input_file(args.input), info.input_names, system->inputs(info.initial_mode).box,
-                                      args.input, info.input_aliases);
+                                      args.input, info.input_aliases, linear_step);
   const stl::SimulatedTrace trace = stl::simulate_inputs(*system, pieces, info.parameters);
   // Every verdict before anything is written: a requirement asked for by name that the trace
   // cannot decide is refused.

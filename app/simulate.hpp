@@ -27,6 +27,7 @@ struct SimulateArgs {
   std::vector<std::string> sets;  // key=value instance parameters
   std::string input;              // the input CSV
   std::string trace;              // where to write the trace CSV ("" none, "-" stdout)
+  std::string interpolation = "zoh";  // the CSV's rows as zoh (held) or linear control points
 };
 
 int cmd_simulate(const SimulateArgs& args);
@@ -36,10 +37,12 @@ int cmd_witness_csv(const std::string& file, const std::string& output);
 
 // The pieces of an input CSV's text for a system with `inputs` (names, each also called by its
 // `aliases`, which may be empty) inside `box`; throws UsageError naming `where`, the row and the
-// column.
+// column. linear_step > 0: the rows are control points of a linear signal, cut into pieces of at
+// most that length (stl::linear_signal_pieces); 0: each row's input is held until the next.
 std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std::vector<std::string>& inputs,
                                              const Box& box, const std::string& where,
-                                             const std::vector<std::vector<std::string>>& aliases = {});
+                                             const std::vector<std::vector<std::string>>& aliases = {},
+                                             double linear_step = 0.0);
 
 // The names an input CSV's header may give its columns, as `time (or t), u1 (or throttle), ...`.
 std::string accepted_input_names(const std::vector<std::string>& inputs,

@@ -16,6 +16,7 @@
 #include "core/options.hpp"
 #include "core/planner.hpp"
 #include "core/requirements/requirement.hpp"
+#include "core/requirements/simulate.hpp"
 #include "core/trajectory.hpp"
 #include "suites/registry.hpp"
 
@@ -186,6 +187,41 @@ TEST(At, ReplaysTheSimulinkTrace) {
               max_shift_error, 100 * speed_error, top, 100 * rpm_error, rpm_error_at);
   EXPECT_LE(speed_error, 0.005);
   EXPECT_LE(rpm_error, 0.005);
+}
+
+// `hyfal simulate --interpolation linear` (stl::linear_signal_pieces, pieces of the 0.01 s step at
+// the line's midpoints) replays the trace's samples as the linear signal they are: engine speed
+// within 0.8 % of the trace's (the rest is the profile's kink between two samples, see
+// throttle_profile), where holding each sample (zero-order hold) is over 2 % off.
+TEST(At, ReplaysTheSimulinkTraceSamplesAsALinearSignal) {
+  const auto rows = read_trace();
+  const auto sys = make_at();
+  std::vector<double> times;
+  std::vector<std::vector<double>> values;
+  for (const auto& row : rows) {
+    times.push_back(row.time);
+    values.push_back({row.throttle, row.brake});
+  }
+  const auto worst_rpm_error = [&](const std::vector<stl::InputPiece>& pieces) {
+    const stl::SimulatedTrace trace = stl::simulate_inputs(*sys, pieces, sys->info().parameters);
+    EXPECT_EQ(trace.end, PropagationEnd::completed);
+    double worst = 0.0;
+    std::size_t j = 0;
+    for (const auto& row : rows) {  // our last sample at or before the row's time (y2: rpm)
+      while (j + 1 < trace.samples() && trace.time[j + 1] <= row.time + 1e-9) ++j;
+      worst = std::max(worst, std::abs(trace.signals[1][j] - row.rpm) / row.rpm);
+    }
+    return worst;
+  };
+  const std::vector<stl::InputPiece> linear = stl::linear_signal_pieces(times, values, 0.01);
+  ASSERT_EQ(linear.size(), 3000u);  // 750 intervals of 0.04 s, 4 pieces each
+  EXPECT_NEAR(linear[0].u[0], 0.875 * 60.0 + 0.125 * rows[1].throttle, 1e-12);  // the first piece's midpoint
+  std::vector<stl::InputPiece> held;
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k) held.push_back({rows[k + 1].time - rows[k].time, values[k]});
+  const double linear_error = worst_rpm_error(linear), held_error = worst_rpm_error(held);
+  std::printf("AT trace samples replayed: max rpm error %.3g %% linear, %.3g %% held\n", 100 * linear_error, 100 * held_error);
+  EXPECT_LE(linear_error, 0.008);
+  EXPECT_GT(held_error, 0.02);
 }
 
 TEST(At, IdleSitsOnTheEngineSpeedBoundAndTheCarStaysInFirstGear) {

@@ -260,6 +260,8 @@ std::vector<BadCase> bad_cases() {
       csv("time,throttle,brake\n0,50,0\n10,50,0\n"));
   add("SimulateHeaderNamesAnotherInput", {"simulate", "--suite", "at", "--input", "in.csv", "--trace", "out/t.csv"},
       csv("time,gas,brake\n0,50,0\n10,50,0\n"));
+  add("SimulateInterpolationUnknown", {"simulate", "--suite", "at", "--input", "in.csv", "--interpolation", "cubic", "--trace", "out/t.csv"},
+      csv("time,throttle,brake\n0,50,0\n10,50,0\n"));
   add("MarginWithoutARequirement", run_out({"--suite", "at", "--set", "margin=10"}));
   add("MarginNegative", run_out({"--suite", "at", "--set", "requirement=AT1", "--set", "margin=-1"}));
   add("AdaptiveCpNotNumbers", run_out({"--suite", "at", "--set", "requirement=AT1", "--method", "adaptive", "--set", "cp=2 x"}));

@@ -139,6 +139,26 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   return trace;
 }
 
+std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
+                                             double step) {
+  if (times.size() != values.size()) throw std::invalid_argument("linear_signal_pieces: one value per control point");
+  if (!(step > 0.0)) throw std::invalid_argument("linear_signal_pieces: the step must be > 0");
+  std::vector<InputPiece> pieces;
+  for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+    const double length = times[k + 1] - times[k];
+    if (!(length > 0.0)) throw std::invalid_argument("linear_signal_pieces: times must increase");
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(length / step - 1e-9)));
+    const double h = length / static_cast<double>(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      const double w = (static_cast<double>(j) + 0.5) / static_cast<double>(n);  // the midpoint's weight on the end
+      InputPiece p{h, std::vector<double>(values[k].size())};
+      for (std::size_t i = 0; i < p.u.size(); ++i) p.u[i] = (1.0 - w) * values[k][i] + w * values[k + 1][i];
+      pieces.push_back(std::move(p));
+    }
+  }
+  return pieces;
+}
+
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
   InputSimulator simulator(system);
   return simulator.run(pieces, p);

@@ -43,6 +43,15 @@ struct SimulatedTrace {
   std::size_t samples() const { return time.size(); }
 };
 
+// The signal through control points (times[k], values[k]), linear between consecutive ones (S-TaLiRo's
+// and Breach's default interpolation; the Simulink trace's inputs), as pieces of constant input:
+// each interval cut into ceil(length / step) equal pieces holding the line's value at their
+// midpoints (the integral of the input over each piece is exact; a model affine in u sees the
+// exact input mean over every integration step when step is its integrator's). Times increase;
+// values.size() == times.size(). The signal ends at the last control point.
+std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
+                                             double step);
+
 // Simulates `system` from its initial state with parameters p under `pieces` (each u of the
 // system's input dimension). Throws std::invalid_argument on a piece of the wrong size or a
 // negative or non-finite duration.
