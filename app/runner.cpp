@@ -139,7 +139,7 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
     throw UsageError(fmt::format("method '{}' on suite '{}': {}", method->name, suite->name, e.what()));
   }
   g.config = {{"master_seed", spec.seed}, {"max_nodes", spec.max_nodes}, {"timeout_s", spec.timeout_s},
-              {"options", g.options}};
+              {"options", canonical_instance(method->options, g.options)}};  // an option at its unkeyed value left out
   g.base = TrialKey{spec.experiment, suite->name, g.instance.dump(), method->name, g.config.dump(), 0};
   return g;
 }

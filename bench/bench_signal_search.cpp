@@ -46,6 +46,10 @@ void BM_SignalSearchRandom(benchmark::State& state) { measure_run(state, "random
 void BM_SignalSearchCmaes(benchmark::State& state) { measure_run(state, "cmaes", {}); }
 void BM_SignalSearchAdaptive(benchmark::State& state) { measure_run(state, "adaptive", {}); }
 void BM_SignalSearchAdaptiveLocal(benchmark::State& state) { measure_run(state, "adaptive-local", {}); }
+// input_shape = linear: the line between control points drives the model as pieces of its 0.01 s
+// integration step (3,000 pieces per simulation instead of 30).
+void BM_SignalSearchRandomLinear(benchmark::State& state) { measure_run(state, "random", {{"input_shape", "linear"}}); }
+void BM_SignalSearchAdaptiveLinear(benchmark::State& state) { measure_run(state, "adaptive", {{"input_shape", "linear"}}); }
 void BM_SignalSearchRrtRefined(benchmark::State& state) {
   measure_run(state, "rrt", {{"robustness_bias", "0.5"}, {"input_refinement", "2"}});
 }
@@ -55,6 +59,8 @@ BENCHMARK(BM_SignalSearchRandom)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_SignalSearchCmaes)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_SignalSearchAdaptive)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_SignalSearchAdaptiveLocal)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_SignalSearchRandomLinear)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_SignalSearchAdaptiveLinear)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_SignalSearchRrt)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_SignalSearchRrtRefined)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 

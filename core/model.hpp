@@ -297,6 +297,11 @@ struct SystemInfo {
   // validator checks that a witness's input changes only at multiples of δt. Otherwise (false,
   // or reachability of s <= 0) an edge ends at the first transition (seed 002 Alg. 3).
   bool held_inputs = false;
+  // With held_inputs: the instance also admits a signal linear between control points on the
+  // δt grid (ARCH-COMP instance 1: any piecewise-continuous signal; instance 2 demands piecewise
+  // constant). A witness that declares its control points (Trajectory::linear_input) may then
+  // change its input between multiples of δt, along the line between them (validate_witness).
+  bool interpolated_inputs = false;
   IntegratorSettings integrator;
   double witness_tolerance = 1e-6;     // validation tolerance on states and on s
   // STL: the output signals (values from M::outputs, in this order), the inputs' units (empty, or

@@ -173,9 +173,10 @@ struct OptionSpec {
   Json default_value;
   std::string help;
   std::string range = {};
-  // A suite parameter added after results were stored: at this value (the behaviour before the
-  // parameter existed) it is left out of the instance key (canonical_instance), so stored keys,
-  // and the trial seeds drawn from them, keep meaning what they meant. Unset: always keyed.
+  // A suite parameter or method option added after results were stored: at this value (the
+  // behaviour before it existed) it is left out of the instance key, or of the options in the
+  // trial's config (canonical_instance), so stored keys, and the trial seeds drawn from them, keep
+  // meaning what they meant. Unset: always keyed.
   std::optional<Json> unkeyed_value = std::nullopt;
 };
 

@@ -8,11 +8,26 @@
 
 namespace hyfal {
 
-SignalSimulations::SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon)
+InputShape input_shape_of(const std::string& text) {
+  if (text == "constant") return InputShape::constant;
+  if (text == "linear") return InputShape::linear;
+  throw std::invalid_argument(fmt::format("input_shape = '{}': expected constant or linear", text));
+}
+
+OptionSpec input_shape_option() {
+  return {"input_shape", "constant",
+          "the signal between control points: constant (held for δt) or linear (control points every δt, the line "
+          "between them; ARCH-COMP instance 1 only)",
+          "constant|linear", "constant"};  // unkeyed: stored signal-search trials predate it
+}
+
+SignalSimulations::SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon, InputShape shape)
     : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), budget_(ctx),
-      max_simulations_(std::min(budget, ctx.limits.max_nodes)) {
+      max_simulations_(std::min(budget, ctx.limits.max_nodes)), shape_(shape) {
   dt_ = system_.info().step_duration;
   pieces_ = static_cast<std::size_t>(std::max(1.0, std::ceil(horizon / dt_ - 1e-9)));
+  if (shape_ == InputShape::linear)
+    fine_per_piece_ = static_cast<std::size_t>(std::max(1.0, std::ceil(dt_ / system_.info().integrator.max_step - 1e-9)));
   reserve(1);
 }
 
@@ -23,6 +38,12 @@ void SignalSimulations::reserve(std::size_t n) {
     std::vector<stl::InputPiece> pieces(pieces_, stl::InputPiece{dt_, std::vector<double>(system_.info().input_names.size())});
     slots_.push_back(std::make_unique<SignalSlot>(system_, requirement_, std::move(pieces)));
     slots_.back()->simulator.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
+    if (shape_ == InputShape::linear) {
+      const std::size_t m = system_.info().input_names.size();
+      slots_.back()->start.assign(m, 0.0);
+      slots_.back()->fine.assign(pieces_ * fine_per_piece_,
+                                 stl::InputPiece{dt_ / static_cast<double>(fine_per_piece_), std::vector<double>(m)});
+    }
   }
 }
 
@@ -31,8 +52,31 @@ void SignalSimulations::check_budget() const {
   if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
 }
 
+// The line's value at the midpoint of each of its n pieces over a piece of δt, as
+// stl::linear_signal_pieces computes it (the validator recomputes them so).
+const std::vector<stl::InputPiece>& SignalSimulations::driving_pieces(SignalSlot& slot) const {
+  if (shape_ == InputShape::constant) return slot.pieces;
+  const std::size_t n = fine_per_piece_, m = slot.start.size();
+  for (std::size_t k = 0; k < pieces_; ++k) {
+    const std::vector<double>& from = k == 0 ? slot.start : slot.pieces[k - 1].u;
+    const std::vector<double>& to = slot.pieces[k].u;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double w = (static_cast<double>(j) + 0.5) / static_cast<double>(n);
+      std::vector<double>& u = slot.fine[k * n + j].u;
+      for (std::size_t i = 0; i < m; ++i) u[i] = stl::linear_value(from[i], to[i], w);
+    }
+  }
+  return slot.fine;
+}
+
+std::size_t SignalSimulations::samples_through(const stl::SimulatedTrace& trace, std::size_t pieces) const {
+  if (pieces == 0) return 1;
+  const std::size_t fine = pieces * fine_per_piece_;
+  return fine <= trace.piece_ends.size() ? trace.piece_ends[fine - 1] : trace.time.size();
+}
+
 void SignalSimulations::simulate(SignalSlot& slot) const {
-  const stl::SimulatedTrace& trace = slot.simulator.run(slot.pieces, ctx_.parameters);
+  const stl::SimulatedTrace& trace = slot.simulator.run(driving_pieces(slot), ctx_.parameters);
   slot.steps = trace.integration_steps;
   slot.interrupted = slot.simulator.interrupted();
   slot.problem = trace.problem;
@@ -49,7 +93,7 @@ double SignalSimulations::account(const SignalSlot& slot) {
   simulated_time_ += slot.end_time;
   double rho = slot.rho;
   if (rho < 0.0) {
-    if (confirmed(slot.pieces)) {
+    if (confirmed(slot)) {
       best_ = rho;
       throw SearchOver{TrialStatus::falsified};
     }
@@ -64,8 +108,20 @@ double SignalSimulations::account(const SignalSlot& slot) {
 // at -2e-5 re-simulated to +0.0037 on AT). A refused signal is no falsification: the search goes
 // on with the validator's robustness for it (refused_rho_, at least 0), and the refusal is
 // counted (metric refused_candidates).
-bool SignalSimulations::confirmed(const std::vector<stl::InputPiece>& pieces) {
+bool SignalSimulations::confirmed(const SignalSlot& slot) {
+  const std::vector<stl::InputPiece>& pieces = shape_ == InputShape::linear ? slot.fine : slot.pieces;
   Trajectory t = stl::trajectory_of_inputs(system_, pieces, ctx_.parameters);
+  if (shape_ == InputShape::linear) {
+    LinearInput in;
+    in.piece = dt_ / static_cast<double>(fine_per_piece_);
+    in.times.push_back(0.0);
+    in.values.push_back(slot.start);
+    for (std::size_t k = 0; k < pieces_; ++k) {
+      in.times.push_back(static_cast<double>(k + 1) * dt_);
+      in.values.push_back(slot.pieces[k].u);
+    }
+    t.linear_input = std::move(in);
+  }
   const ValidationReport v = validate_witness(system_, make_witness(system_, "", 0, t));
   if (v.valid) {
     confirmed_ = std::move(t);
@@ -84,7 +140,7 @@ PlannerOutcome SignalSimulations::outcome(TrialStatus status) {
   out.counters.integration_steps = steps_;
   out.counters.simulated_time = simulated_time_;
   out.metrics["robustness"] = best_;
-  out.metrics["control_points"] = pieces_;
+  out.metrics["control_points"] = pieces_ + (shape_ == InputShape::linear ? 1 : 0);
   if (refused_ > 0) out.metrics["refused_candidates"] = refused_;
   if (status == TrialStatus::falsified) out.trajectory = std::move(confirmed_);  // the signal confirmed() replayed
   return out;
@@ -94,7 +150,7 @@ double signal_horizon(const System& system, double horizon_option) {
   return horizon_option > 0.0 ? horizon_option : system.info().requirement->formula.horizon();
 }
 
-void check_signal_system(const System& system, double horizon_option) {
+void check_signal_system(const System& system, double horizon_option, InputShape shape) {
   const SystemInfo& info = system.info();
   if (!info.requirement)
     throw std::invalid_argument("the signal searches (optimisers, adaptive) minimise an STL requirement's robustness: "
@@ -103,6 +159,11 @@ void check_signal_system(const System& system, double horizon_option) {
   if (system.state_dependent_inputs())
     throw std::invalid_argument(fmt::format("suite '{}' admits inputs that depend on the state (its drivers): a control-point "
                                             "signal cannot respect them",
+                                            info.suite));
+  if (shape == InputShape::linear && info.held_inputs && !info.interpolated_inputs)
+    throw std::invalid_argument(fmt::format("input_shape = linear: suite '{}' at this instance admits only inputs held "
+                                            "constant for δt (ARCH-COMP instance 2); use input_instance=1, or "
+                                            "input_shape=constant",
                                             info.suite));
   if (!std::isfinite(signal_horizon(system, horizon_option)))
     throw std::invalid_argument("the requirement has an unbounded horizon: give the signal's length (--set horizon=...)");

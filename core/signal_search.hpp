@@ -9,6 +9,15 @@
 // tight re-simulation) confirms it, and a refused candidate (the search's robustness just below
 // 0, the validator's just above) lets the search go on. One place, so that every signal search
 // counts and confirms alike.
+//
+// The signal's shape (option `input_shape`): constant (each piece holds its value: ARCH-COMP's
+// instance 2, FalStar's signals) or linear (S-TaLiRo's and Breach's default interpolation,
+// admitted by ARCH-COMP's instance 1: SystemInfo::interpolated_inputs). A linear signal has K + 1
+// control points on the δt grid, the line between them driving the system as pieces of the
+// suite's integration step (its max_step), each holding the line's value at its midpoint
+// (stl::linear_signal_pieces: a model affine in u sees the exact mean over every step); its
+// witness carries the control points (Trajectory::linear_input), which the validator checks the
+// pieces against.
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -23,6 +32,13 @@
 
 namespace hyfal {
 
+enum class InputShape { constant, linear };
+
+// Parses an `input_shape` option ("constant" | "linear"); throws std::invalid_argument naming it.
+InputShape input_shape_of(const std::string& text);
+// The option every signal search takes.
+OptionSpec input_shape_option();
+
 // Thrown out of a search step to end the search (every optimiser library lets it through).
 struct SearchOver {
   TrialStatus status;
@@ -35,7 +51,12 @@ struct SignalSlot {
       : simulator(system), monitor(requirement), pieces(std::move(pieces)) {}
   stl::InputSimulator simulator;
   stl::TraceMonitor monitor;
-  std::vector<stl::InputPiece> pieces;  // the signal: K pieces of δt, whose u the search writes
+  // The signal: K pieces of δt, whose u the search writes. Shape constant: each piece's value;
+  // linear: the control value at the piece's end, `start` the one at time 0 (the system is then
+  // driven by `fine`, the line's pieces).
+  std::vector<stl::InputPiece> pieces;
+  std::vector<double> start;
+  std::vector<stl::InputPiece> fine;
   // The last simulation (its trace stays in `simulator` until the next): its robustness, work,
   // end time, and whether it was cut short.
   double rho = 0.0;
@@ -47,8 +68,10 @@ struct SignalSlot {
 
 class SignalSimulations {
  public:
-  SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon);
+  SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon,
+                    InputShape shape = InputShape::constant);
 
+  InputShape shape() const { return shape_; }
   std::size_t pieces() const { return pieces_; }      // K
   double piece_duration() const { return dt_; }       // δt
   const Box& input_box() const;                       // U of the initial mode: every piece's bounds
@@ -61,8 +84,11 @@ class SignalSimulations {
   // Simulations the budget still allows.
   std::int64_t remaining() const { return max_simulations_ - simulations_; }
   std::int64_t simulations() const { return simulations_; }
-  // Simulates slot.pieces into `slot` (touches nothing else: slots may run in parallel).
+  // Simulates the slot's signal into `slot` (touches nothing else: slots may run in parallel).
   void simulate(SignalSlot& slot) const;
+  // The samples of `trace` (a slot's last simulation) up to the end of its first `pieces` pieces
+  // of δt: the prefix they fix (all of a trace that ended before; 1 for none).
+  std::size_t samples_through(const stl::SimulatedTrace& trace, std::size_t pieces) const;
   // Counts the simulation just run in `slot` and returns the search's value for it: its
   // robustness, or, for a candidate the validator refused, the validator's robustness (at least
   // 0). Throws SearchOver{falsified} at a confirmed falsification, SearchOver{timeout} for a
@@ -73,7 +99,9 @@ class SignalSimulations {
   PlannerOutcome outcome(TrialStatus status);
 
  private:
-  bool confirmed(const std::vector<stl::InputPiece>& pieces);
+  bool confirmed(const SignalSlot& slot);
+  // The pieces that drive the system: slot.pieces, or (linear) slot.fine filled from them.
+  const std::vector<stl::InputPiece>& driving_pieces(SignalSlot& slot) const;
 
   const PlannerContext& ctx_;
   const System& system_;
@@ -83,6 +111,8 @@ class SignalSimulations {
   std::int64_t max_simulations_;
   double dt_ = 1.0;
   std::size_t pieces_ = 1;
+  InputShape shape_ = InputShape::constant;
+  std::size_t fine_per_piece_ = 1;  // linear: pieces of the line per piece of δt
   std::int64_t simulations_ = 0, steps_ = 0, refused_ = 0;
   double refused_rho_ = 0.0;
   std::optional<Trajectory> confirmed_;  // the falsifying signal's trajectory, once confirmed
@@ -93,7 +123,8 @@ class SignalSimulations {
 // What a signal search needs of a system (a method's check_system, and its solve()): an STL
 // requirement, inputs, a box that does not depend on the state, a finite signal length. Throws
 // std::invalid_argument naming what is missing.
-void check_signal_system(const System& system, double horizon_option);
+// A linear shape needs an instance that admits it (a held signal's instance 2 does not).
+void check_signal_system(const System& system, double horizon_option, InputShape shape = InputShape::constant);
 // The signal's length: the option's, or the requirement's horizon (0: unset).
 double signal_horizon(const System& system, double horizon_option);
 

@@ -26,6 +26,18 @@ struct TrajectoryPiece {
   int transition = -1;
 };
 
+// A signal linear between control points (times[k], values[k]), as a signal search with
+// `input_shape = linear` drives the system (core/signal_search.hpp): each interval between
+// control points cut into ceil(length / piece) equal pieces, each holding the line's value at its
+// midpoint (stl::linear_signal_pieces). A witness that carries it declares its pieces' inputs to
+// be those; the validator checks that they are, and that the control points lie on the δt grid
+// of an instance that admits such a signal (SystemInfo::interpolated_inputs).
+struct LinearInput {
+  std::vector<double> times;
+  std::vector<std::vector<double>> values;
+  double piece = 0.0;
+};
+
 struct Trajectory {
   std::vector<double> parameters;
   Mode initial_mode = 0;
@@ -34,6 +46,7 @@ struct Trajectory {
   Mode final_mode = 0;
   std::vector<double> final_x;
   double final_spec = 0.0;
+  std::optional<LinearInput> linear_input;  // JSON "input_signal": {"shape": "linear", ...}
 };
 
 // An STL witness's requirement (instance parameter `requirement`): as named and as written, and
@@ -107,7 +120,9 @@ struct ValidationReport {
 // independent of the stored intermediate states. First, before anything uses them, every index
 // the witness names (modes, transitions) and every vector size is checked against the system
 // (malformed), and every piece's duration against δt (SystemInfo::step_duration: no method
-// extends a node for longer, so a witness asks for bounded work). Then: modes, inputs within U_q, each
+// extends a node for longer, so a witness asks for bounded work); a held signal's input changes
+// only at multiples of δt, or, for a witness that declares a linear signal (linear_input), every
+// piece holds that line's value (control points on the δt grid of an instance that admits it). Then: modes, inputs within U_q, each
 // piece's end state, that no transition became enabled inside a piece (urgency), that each
 // recorded transition is enabled at its piece's end and its reset reproduces the next
 // x_start, and that the final state has s <= tolerance — or, for a system with an STL requirement,

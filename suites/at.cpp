@@ -64,7 +64,9 @@
 //    `input_instance` = 2: δt = max(step, 5) s (pieces of at least 5 s). The inputs are a held
 //    signal (SystemInfo::held_inputs): under a requirement a tree edge holds its input for the
 //    whole δt through the shifts on the way, so every method's input changes only at multiples of
-//    δt, as both instances require (the validator checks it).
+//    δt, as both instances require (the validator checks it). Instance 1 admits any signal, so
+//    a signal search may also ask for one linear between control points on the δt grid
+//    (`input_shape = linear`, SystemInfo::interpolated_inputs); instance 2 refuses it.
 //  - Ū = `input_levels` points per input (default 3: {0, 50, 100} × {0, 162.5, 325}).
 //  - horizon 33 s (invariant t <= horizon): the longest window of the ARCH requirements ends at
 //    30 + 0.1 + 2.5 (AT5x), and the organisers ask for at least 33 s.
@@ -329,6 +331,7 @@ std::shared_ptr<const System> make_at(const Json& instance) {
   info.coverage = {{0, 1}, {{kNeMin, 0.0}, {kNeMax, 2100.0}}, 100.0};
   info.step_duration = input_instance == 2 ? std::max(step, 5.0) : step;
   info.held_inputs = true;  // ARCH-COMP's input signal: see the header
+  info.interpolated_inputs = input_instance == 1;  // instance 1: any signal, so one linear between control points
   info.integrator.kind = IntegratorKind::rk4;
   info.integrator.step = 0.01;
   info.integrator.max_step = 0.01;

@@ -54,7 +54,8 @@
 //    5 s apart: step must be >= 5). The inputs are a held signal (SystemInfo::held_inputs): under
 //    a requirement a tree edge holds its input for the whole δt through the followers' shifts, so
 //    a tree's input changes only at multiples of δt, like an optimiser's, and at δt >= 5 s the two
-//    instances are one search.
+//    instances are one search. Instance 1 also admits a signal linear between control points on
+//    the δt grid (a signal search's `input_shape = linear`, SystemInfo::interpolated_inputs).
 //  - Ū = input_levels² grid over [0, 1]² (default 3: {0, 0.5, 1}).
 //  - x_rand: positions in [−5000, 100] (full throttle for 100 s takes the leader to −5000),
 //    velocities in [−100, 100], t in [0, horizon]; metric weights 1 on positions, 10² on
@@ -223,6 +224,7 @@ std::shared_ptr<const System> make_cc(const Json& instance) {
   info.integrator.max_step = integration_step;
   info.integrator.interpolation = interpolation == "hermite" ? StepInterpolation::hermite : StepInterpolation::restep;
   info.held_inputs = true;
+  info.interpolated_inputs = input_instance == 1;  // instance 1: any signal (the header)
   info.witness_tolerance = 1e-2;
   return std::make_shared<ModelSystem<ChasingCars>>(ChasingCars(horizon, keeping == "printed", levels), std::move(info));
 }

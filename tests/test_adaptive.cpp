@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "core/planners/adaptive/adaptive.hpp"
 #include "core/rng.hpp"
 #include "core/trajectory.hpp"
+#include "engine_support.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
 
@@ -166,12 +166,33 @@ TEST(Adaptive, PrunesAPrefixThatCanNoLongerFalsify) {
   EXPECT_EQ(o.metrics.at("pruned").get<int>(), o.metrics.at("tree_nodes").get<int>() - 1);
 }
 
+// input_shape = linear: the signal is the line between the segments' ends, so a requirement only a
+// value between every level's violates (u1 in [33, 34]: no dyadic fraction of cost <= 5 lies there)
+// is falsified, where the held levels never can; the witness declares control points on the δt
+// grid and validates; the same seed gives the same run.
+TEST(Adaptive, ALinearSignalPassesBetweenTheLevels) {
+  const auto sys = make({{"requirement", "always[0,30] (u1 < 33 or u1 > 34)"}});
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const PlannerOutcome held = solve(*sys, {{"budget", "60"}}, seed);
+    EXPECT_EQ(held.status, TrialStatus::node_cap) << seed;
+    const PlannerOutcome line = solve(*sys, {{"budget", "60"}, {"input_shape", "linear"}}, seed);
+    ASSERT_EQ(line.status, TrialStatus::falsified) << seed;
+    ASSERT_TRUE(line.trajectory->linear_input);
+    for (double t : line.trajectory->linear_input->times) EXPECT_EQ(t, std::round(t)) << "off the 1 s grid";
+    const ValidationReport v = validate_witness(*sys, make_witness(*sys, "adaptive", 0, *line.trajectory));
+    EXPECT_TRUE(v.valid) << v.reason;
+    const PlannerOutcome again = solve(*sys, {{"budget", "60"}, {"input_shape", "linear"}}, seed);
+    EXPECT_EQ(again.counters.nodes, line.counters.nodes);
+    EXPECT_EQ(again.metrics.dump(), line.metrics.dump());
+  }
+}
+
 // Options are checked before a run: a malformed cp, or no exploit move.
 TEST(Adaptive, RefusesMalformedOptions) {
   const auto sys = make({{"requirement", "ATc1"}});
   const MethodEntry* m = find_method("adaptive");
   for (const Sets& bad : std::vector<Sets>{{{"cp", "2 x 3"}}, {{"cp", ""}}, {{"cp", "0 2"}}, {{"cp", "1 2 3 4 5 6 7 8 9 10 11 12 13"}},
-                                           {{"uniform", "0"}, {"prefix", "0"}, {"suffix", "0"}}}) {
+                                           {{"uniform", "0"}, {"prefix", "0"}, {"suffix", "0"}}, {{"input_shape", "pchip"}}}) {
     EXPECT_THROW(m->check_system(*sys, resolve_options(m->options, bad)), std::invalid_argument) << bad.front().second;
   }
   EXPECT_NO_THROW(m->check_system(*sys, resolve_options(m->options, {})));
@@ -199,25 +220,13 @@ TEST(Adaptive, ResultsDoNotDependOnTheThreadCountAndWitnessesValidate) {
       jobs.push_back(job);
     }
   }
-  std::map<int, std::vector<std::string>> by_threads;
   int validated = 0;
-  for (int threads : {1, 2}) {
-    EngineOptions options;
-    options.threads = threads;
-    std::vector<std::string>& out = by_threads[threads];
-    out.resize(jobs.size());
-    run_trials(jobs, options, [&](const TrialRecord& r) {
-      for (std::size_t i = 0; i < jobs.size(); ++i)
-        if (jobs[i].key == r.key)
-          out[i] = std::string(to_string(r.status)) + " " + std::to_string(r.nodes) + " " + std::to_string(r.integration_steps) +
-                   " " + r.metrics;
-      if (r.status == TrialStatus::falsified) {
-        EXPECT_TRUE(r.validated) << r.key.instance;
-        validated += r.validated;
-      }
-    });
-  }
-  EXPECT_EQ(by_threads[1], by_threads[2]);
+  const auto check_witness = [&](const TrialRecord& r) {
+    if (r.status != TrialStatus::falsified) return;
+    EXPECT_TRUE(r.validated) << r.key.instance;
+    validated += r.validated;
+  };
+  EXPECT_EQ(test_support::outcomes_at(jobs, 1, check_witness), test_support::outcomes_at(jobs, 2, check_witness));
   EXPECT_GT(validated, 0);
 }
 
@@ -308,25 +317,13 @@ TEST(InputRefinement, TreesFalsifyBetweenTheGridsPointsAndAreDeterministic) {
         job.seed = trial_seed(3, "at", job.key.instance, method + job.key.config, t);
         jobs.push_back(job);
       }
-  std::map<int, std::vector<std::string>> by_threads;
   int falsified = 0;
-  for (int threads : {1, 2}) {
-    EngineOptions options;
-    options.threads = threads;
-    std::vector<std::string>& out = by_threads[threads];
-    out.resize(jobs.size());
-    run_trials(jobs, options, [&](const TrialRecord& r) {
-      for (std::size_t i = 0; i < jobs.size(); ++i)
-        if (jobs[i].key == r.key)
-          out[i] = std::string(to_string(r.status)) + " " + std::to_string(r.nodes) + " " + std::to_string(r.integration_steps) +
-                   " " + r.metrics;
-      if (r.status == TrialStatus::falsified) {
-        EXPECT_TRUE(r.validated) << r.key.method << " " << r.key.config;
-        falsified += threads == 1;
-      }
-    });
-  }
-  EXPECT_EQ(by_threads[1], by_threads[2]);
+  const auto check_witness = [&](const TrialRecord& r) {
+    if (r.status != TrialStatus::falsified) return;
+    EXPECT_TRUE(r.validated) << r.key.method << " " << r.key.config;
+    ++falsified;
+  };
+  EXPECT_EQ(test_support::outcomes_at(jobs, 1, check_witness), test_support::outcomes_at(jobs, 2, check_witness));
   EXPECT_GT(falsified, 0);
 }
 

@@ -265,6 +265,10 @@ std::vector<BadCase> bad_cases() {
   add("MarginWithoutARequirement", run_out({"--suite", "at", "--set", "margin=10"}));
   add("MarginNegative", run_out({"--suite", "at", "--set", "requirement=AT1", "--set", "margin=-1"}));
   add("AdaptiveCpNotNumbers", run_out({"--suite", "at", "--set", "requirement=AT1", "--method", "adaptive", "--set", "cp=2 x"}));
+  add("LinearInputsAtInstance2", run_out({"--suite", "at", "--set", "requirement=AT1", "--method", "cmaes", "--set",
+                                         "input_shape=linear", "--set", "input_instance=2"}));
+  add("InputShapeUnknown", run_out({"--suite", "at", "--set", "requirement=AT1", "--method", "adaptive", "--set",
+                                    "input_shape=pchip"}));
   add("InputRefinementTooLarge", run_out({"--suite", "at", "--set", "requirement=AT1", "--set", "input_refinement=65"}));
   add("MissingSuite", run_out({}));
   add("UnknownOption", run_out({"--suite", "thermostat", "--bogus", "1"}));

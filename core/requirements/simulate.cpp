@@ -152,7 +152,7 @@ std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std:
     for (std::size_t j = 0; j < n; ++j) {
       const double w = (static_cast<double>(j) + 0.5) / static_cast<double>(n);  // the midpoint's weight on the end
       InputPiece p{h, std::vector<double>(values[k].size())};
-      for (std::size_t i = 0; i < p.u.size(); ++i) p.u[i] = (1.0 - w) * values[k][i] + w * values[k + 1][i];
+      for (std::size_t i = 0; i < p.u.size(); ++i) p.u[i] = linear_value(values[k][i], values[k + 1][i], w);
       pieces.push_back(std::move(p));
     }
   }

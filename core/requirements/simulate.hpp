@@ -49,6 +49,13 @@ struct SimulatedTrace {
 // midpoints (the integral of the input over each piece is exact; a model affine in u sees the
 // exact input mean over every integration step when step is its integrator's). Times increase;
 // values.size() == times.size(). The signal ends at the last control point.
+// The line from a to b at weight w in [0, 1], kept between a and b (a rounding of the line must
+// not step outside an input box whose bound is a or b).
+inline double linear_value(double a, double b, double w) {
+  const double v = (1.0 - w) * a + w * b;
+  return a <= b ? (v < a ? a : v > b ? b : v) : (v < b ? b : v > a ? a : v);
+}
+
 std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
                                              double step);
 

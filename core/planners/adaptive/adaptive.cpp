@@ -44,8 +44,11 @@
 //    actions is alive ends without a simulation (FalStar's Result.empty). Simulations (the
 //    counters, the league's count) are the passes that simulated. When the root itself has no
 //    live action left, the search has tried everything it may: not_found.
-//  - Inputs are all piecewise constant (FalStar's `constant` inputs, fixed after their first
-//    choice, have no counterpart in the suites).
+//  - Inputs are piecewise constant (FalStar's `constant` inputs, fixed after their first
+//    choice, have no counterpart in the suites), or, with `input_shape = linear` (ours, for
+//    ARCH-COMP instance 1), linear between the segments' ends: an action's value is the signal's
+//    at its segment's end (the first segment holds its value from 0), so that the signal up to a
+//    node's time is fixed by the path to it and the prefix bound prunes as soundly as before.
 //  - The robustness a child is ranked by (prefix move) is its prefix interval's upper bound, and a
 //    subtree's (suffix move) the lowest whole-simulation robustness through it, both as FalStar
 //    sets them; a refused candidate counts with the validator's robustness (signal_search.hpp).
@@ -104,6 +107,7 @@ struct AdaptiveOptions {
   double local_step = 0.125;
   std::int64_t local_after = 20;  // passes without a new best before a local search
   std::size_t local_segments = 0;  // trailing segments the local search moves (0: all)
+  InputShape shape = InputShape::constant;
 };
 
 // "2 2 3 3 3 4" -> {2, 2, 3, 3, 3, 4}; throws std::invalid_argument naming what is wrong.
@@ -132,6 +136,7 @@ AdaptiveOptions read_options(const Json& o) {
   AdaptiveOptions a{o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(), parse_cp(o.at("cp").get<std::string>()),
                     o.at("exploration").get<double>(), o.at("uniform").get<double>(), o.at("prefix").get<double>(),
                     o.at("suffix").get<double>()};
+  a.shape = input_shape_of(o.at("input_shape").get<std::string>());
   if (!(a.uniform + a.prefix + a.suffix > 0.0))
     throw std::invalid_argument("adaptive: uniform, prefix and suffix are all 0: a tried child could never be chosen again");
   if (o.contains("local_budget")) {
@@ -148,8 +153,8 @@ class AdaptiveSearch final : public Planner {
   explicit AdaptiveSearch(AdaptiveOptions o) : o_(std::move(o)) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    check_signal_system(ctx.system, o_.horizon);
-    SignalSimulations sims(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon));
+    check_signal_system(ctx.system, o_.horizon, o_.shape);
+    SignalSimulations sims(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon), o_.shape);
     Pass pass(o_, sims, signal_horizon(ctx.system, o_.horizon), ctx.seed);
     TrialStatus status = TrialStatus::node_cap;
     try {
@@ -349,15 +354,44 @@ class AdaptiveSearch final : public Planner {
         at = e.child;
       }
       // The signal: each step's value over its segment, cut at the horizon.
-      const std::size_t m = sims_.input_box().lo.size();
-      for (const Step& s : path_) {
-        const Level& level = levels_[s.level];
-        const double* u = level.values.data() + static_cast<std::size_t>(s.action) * m;
-        const std::size_t from = nodes_[s.node].piece;
-        const std::size_t to = s.child == kLeaf ? sims_.pieces() : nodes_[s.child].piece;
-        for (std::size_t k = from; k < to; ++k) std::copy(u, u + m, slot_.pieces[k].u.begin());
-      }
+      keep_path(pass_ends_, pass_values_);
+      write_signal(pass_ends_, pass_values_.data());
       return true;
+    }
+
+    // The path's segments: their ends (pieces of δt) and values (segment-major).
+    void keep_path(std::vector<std::size_t>& ends, std::vector<double>& values) const {
+      const std::size_t m = sims_.input_box().lo.size();
+      ends.clear();
+      values.clear();
+      for (const Step& s : path_) {
+        ends.push_back(s.child == kLeaf ? sims_.pieces() : nodes_[s.child].piece);
+        const double* u = levels_[s.level].values.data() + static_cast<std::size_t>(s.action) * m;
+        values.insert(values.end(), u, u + m);
+      }
+    }
+
+    // The slot's signal from segments (ends in pieces of δt, values segment-major). Constant:
+    // each segment holds its value. Linear: the value is the control point at the segment's end,
+    // the line runs from the control point at its start (the first segment's: its own value).
+    void write_signal(const std::vector<std::size_t>& ends, const double* values) {
+      const std::size_t m = sims_.input_box().lo.size();
+      const bool linear = sims_.shape() == InputShape::linear;
+      if (linear) std::copy(values, values + m, slot_.start.begin());
+      std::size_t from = 0;
+      for (std::size_t s = 0; s < ends.size(); ++s) {
+        const double* u = values + s * m;
+        for (std::size_t k = from; k < ends[s]; ++k) {
+          if (!linear) {
+            std::copy(u, u + m, slot_.pieces[k].u.begin());
+            continue;
+          }
+          const std::vector<double>& a = from == 0 ? slot_.start : slot_.pieces[from - 1].u;  // the control point at `from`
+          const double w = static_cast<double>(k + 1 - from) / static_cast<double>(ends[s] - from);
+          for (std::size_t i = 0; i < m; ++i) slot_.pieces[k].u[i] = k + 1 == ends[s] ? u[i] : stl::linear_value(a[i], u[i], w);
+        }
+        from = std::max(from, ends[s]);
+      }
     }
 
     // One simulation of the pass's signal, counted (throws SearchOver at the search's end).
@@ -379,8 +413,7 @@ class AdaptiveSearch final : public Planner {
         child.best = std::min(child.best, rho);
         // The prefix: the samples up to the child's time (pieces 0 .. piece - 1); a trace that
         // ended before (the system's invariant) is a prefix as it stands.
-        const std::size_t samples =
-            child.piece == 0 ? 1 : child.piece <= trace.piece_ends.size() ? trace.piece_ends[child.piece - 1] : trace.time.size();
+        const std::size_t samples = sims_.samples_through(trace, child.piece);
         const stl::Interval bounds = slot_.monitor.prefix_bounds(trace, samples, true);
         if (bounds.lower < 0.0) {
           child.prefix_upper = bounds.upper;
@@ -399,16 +432,7 @@ class AdaptiveSearch final : public Planner {
     // The tree chooses the signal's shape (where the input changes, and roughly to what); the
     // local search moves the values off the dyadic levels into the bands between them, where the
     // tree has stalled. Its simulations add nothing to the tree.
-    void keep_best() {
-      const std::size_t m = sims_.input_box().lo.size();
-      best_ends_.clear();
-      best_values_.clear();
-      for (const Step& s : path_) {
-        best_ends_.push_back(s.child == kLeaf ? sims_.pieces() : nodes_[s.child].piece);
-        const double* u = levels_[s.level].values.data() + static_cast<std::size_t>(s.action) * m;
-        best_values_.insert(best_values_.end(), u, u + m);
-      }
-    }
+    void keep_best() { keep_path(best_ends_, best_values_); }
 
     bool polish() {
       const std::size_t m = sims_.input_box().lo.size();
@@ -472,16 +496,10 @@ class AdaptiveSearch final : public Planner {
     // (segment-major), counted.
     double simulate_values(const std::vector<double>& v) {
       const std::size_t m = sims_.input_box().lo.size();
-      std::size_t from = 0;
-      for (std::size_t s = 0; s < best_ends_.size(); ++s) {
-        for (std::size_t k = from; k < best_ends_[s]; ++k)
-          for (std::size_t i = 0; i < m; ++i) {
-            const std::size_t at = s * m + i;
-            const double value = at < first_free_ ? best_values_[at] : v[at - first_free_];
-            slot_.pieces[k].u[i] = std::clamp(value, sims_.input_box().lo[i], sims_.input_box().hi[i]);
-          }
-        from = best_ends_[s];
-      }
+      pass_values_ = best_values_;
+      for (std::size_t at = first_free_; at < pass_values_.size(); ++at)
+        pass_values_[at] = std::clamp(v[at - first_free_], sims_.input_box().lo[at % m], sims_.input_box().hi[at % m]);
+      write_signal(best_ends_, pass_values_.data());
       sims_.check_budget();
       sims_.simulate(slot_);
       return sims_.account(slot_);
@@ -499,6 +517,8 @@ class AdaptiveSearch final : public Planner {
     std::int64_t passes_ = 0, pruned_ = 0, local_searches_ = 0, local_simulations_ = 0;
     double best_ = std::numeric_limits<double>::infinity();
     std::int64_t since_best_ = 0, wait_ = o_.local_after;
+    std::vector<std::size_t> pass_ends_;  // this pass's signal: its segments' ends (pieces)
+    std::vector<double> pass_values_;     // and their values, segment-major
     std::vector<std::size_t> best_ends_;  // the best signal: its segments' ends (pieces)
     std::vector<double> best_values_;     // and their values, segment-major
     std::size_t first_free_ = 0;          // the local search's first free value in best_values_
@@ -508,8 +528,8 @@ class AdaptiveSearch final : public Planner {
 };
 
 void check_adaptive_system(const System& system, const Json& options) {
-  read_options(options);
-  check_signal_system(system, options.at("horizon").get<double>());
+  const AdaptiveOptions o = read_options(options);
+  check_signal_system(system, o.horizon, o.shape);
 }
 
 std::vector<OptionSpec> adaptive_options() {
@@ -521,7 +541,8 @@ std::vector<OptionSpec> adaptive_options() {
           {"exploration", 0.25, "weight of the explore move (an untried action)", "(0, 1]"},
           {"uniform", 0.25, "weight of the uniform move (a random kept child)", "[0, 1]"},
           {"prefix", 0.25, "weight of the prefix move (the child with the lowest prefix robustness bound)", "[0, 1]"},
-          {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)", "[0, 1]"}};
+          {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)", "[0, 1]"},
+          input_shape_option()};
 }
 
 }  // namespace

@@ -15,7 +15,9 @@
 // 2's 5 s pieces are the suites' `step`), K = ceil(horizon / δt), the horizon being the
 // requirement's (its formula's) unless the option `horizon` says otherwise. The decision vector
 // is (u_1 of piece 1, ..., u_m of piece 1, u_1 of piece 2, ...), bounded by the input box U_q of
-// the initial mode. A simulation is stl::simulate_inputs (core/requirements/simulate.hpp), sampled
+// the initial mode; with `input_shape = linear` it is the K + 1 control points of a signal linear
+// between multiples of δt (u at 0, then u at the end of each piece: core/signal_search.hpp). A
+// simulation is stl::simulate_inputs (core/requirements/simulate.hpp), sampled
 // as the tree searches sample; its robustness stl::trace_robustness. Seeds: from the trial seed
 // (pagmo's and the restarts' streams), evaluations in sequence: the same result at any thread
 // count. The witness is the falsifying signal replayed (stl::trajectory_of_inputs) and validated
@@ -57,10 +59,11 @@ enum class Optimizer { random, annealing, cmaes, nelder_mead };
 // (core/signal_search.hpp: the simulations, their count and the validator's confirmation).
 class RobustnessObjective {
  public:
-  RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon)
-      : ctx_(ctx), simulations_(ctx, budget, horizon) {
+  RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon, InputShape shape)
+      : ctx_(ctx), simulations_(ctx, budget, horizon, shape) {
     const Box& box = simulations_.input_box();
-    for (std::size_t k = 0; k < simulations_.pieces(); ++k) {
+    const std::size_t points = simulations_.pieces() + (shape == InputShape::linear ? 1 : 0);
+    for (std::size_t k = 0; k < points; ++k) {
       lo_.insert(lo_.end(), box.lo.begin(), box.lo.end());
       hi_.insert(hi_.end(), box.hi.begin(), box.hi.end());
     }
@@ -72,7 +75,7 @@ class RobustnessObjective {
   double operator()(const std::vector<double>& x) {
     simulations_.check_budget();
     SignalSlot& slot = simulations_.slot(0);
-    set_pieces(x, slot.pieces);
+    set_signal(x, slot);
     simulations_.simulate(slot);
     return value(simulations_.account(slot));
   }
@@ -88,7 +91,7 @@ class RobustnessObjective {
     simulations_.reserve(n);
     parallel_slots(n, ctx_.cpu, [&](std::size_t i) {
       SignalSlot& slot = simulations_.slot(i);
-      set_pieces(xs[i], slot.pieces);
+      set_signal(xs[i], slot);
       simulations_.simulate(slot);
     });
     for (std::size_t i = 0; i < n; ++i) simulations_.account(simulations_.slot(i));
@@ -100,12 +103,16 @@ class RobustnessObjective {
   // What an optimiser sees: a finite number (a library may choke on an infinite one).
   static double value(double rho) { return std::isfinite(rho) ? rho : std::numeric_limits<double>::max(); }
 
-  // The signal x encodes, into `pieces`.
-  void set_pieces(const std::vector<double>& x, std::vector<stl::InputPiece>& pieces) const {
-    const std::size_t m = pieces.front().u.size();
-    for (std::size_t k = 0; k < pieces.size(); ++k)
-      for (std::size_t j = 0; j < m; ++j)  // clamped: a library may step a hair outside its bounds
-        pieces[k].u[j] = std::clamp(x[k * m + j], lo_[k * m + j], hi_[k * m + j]);
+  // The signal x encodes, into the slot (linear: x's first control point is the start's).
+  void set_signal(const std::vector<double>& x, SignalSlot& slot) const {
+    const std::size_t m = slot.pieces.front().u.size();
+    std::size_t at = 0;
+    const auto take = [&](std::vector<double>& u) {
+      for (std::size_t j = 0; j < m; ++j, ++at)  // clamped: a library may step a hair outside its bounds
+        u[j] = std::clamp(x[at], lo_[at], hi_[at]);
+    };
+    if (simulations_.shape() == InputShape::linear) take(slot.start);
+    for (auto& piece : slot.pieces) take(piece.u);
   }
 
   const PlannerContext& ctx_;
@@ -125,6 +132,7 @@ struct OptimizerOptions {
   std::int64_t budget;
   double horizon;         // 0: the requirement's
   std::size_t batch = 1;  // random: simulations evaluated at once
+  InputShape shape = InputShape::constant;
 };
 
 class OptimizationFalsifier final : public Planner {
@@ -132,8 +140,8 @@ class OptimizationFalsifier final : public Planner {
   explicit OptimizationFalsifier(OptimizerOptions o) : o_(o) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    check_signal_system(ctx.system, o_.horizon);
-    RobustnessObjective objective(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon));
+    check_signal_system(ctx.system, o_.horizon, o_.shape);
+    RobustnessObjective objective(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon), o_.shape);
     Rng rng(ctx.seed);
     try {
       switch (o_.kind) {
@@ -229,12 +237,13 @@ class OptimizationFalsifier final : public Planner {
 };
 
 void check_optimizer_system(const System& system, const Json& options) {
-  check_signal_system(system, options.at("horizon").get<double>());
+  check_signal_system(system, options.at("horizon").get<double>(), input_shape_of(options.at("input_shape").get<std::string>()));
 }
 
 MethodEntry optimizer_method(std::string name, std::string description, Optimizer kind) {
   std::vector<OptionSpec> options{{"budget", 1500, "simulations per run (ARCH-COMP: 1500)", "[1, 100000000]"},
-                                  {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"}};
+                                  {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
+                                  input_shape_option()};
   // Only uniform random draws its candidates independently of their values; pagmo 2.18's CMA-ES
   // has no batch evaluator (cmaes::set_bfe came in 2.19), annealing and Nelder-Mead are sequential.
   if (kind == Optimizer::random)
@@ -246,7 +255,8 @@ MethodEntry optimizer_method(std::string name, std::string description, Optimize
           [kind](const Json& o) {
             return std::make_unique<OptimizationFalsifier>(
                 OptimizerOptions{kind, o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(),
-                                 o.contains("batch") ? o.at("batch").get<std::size_t>() : 1});
+                                 o.contains("batch") ? o.at("batch").get<std::size_t>() : 1,
+                                 input_shape_of(o.at("input_shape").get<std::string>())});
           },
           check_optimizer_system};
 }
