@@ -12,6 +12,7 @@ packages=(
   libompl-dev  # OMPL's control planners as methods ompl-* (optional component)
   ompl-demos   # ompl_benchmark_statistics: the ctest that reads `hyfal table --format ompl-log`
   python3-matplotlib  # scripts/plot_tables.py (run with /usr/bin/python3)
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
 )
 missing=()
 for p in "${packages[@]}"; do
