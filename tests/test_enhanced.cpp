@@ -14,6 +14,7 @@
 #include "core/options.hpp"
 #include "core/samplers/biased_sampler.hpp"
 #include "core/system.hpp"
+#include "core/trajectory.hpp"
 #include "core/trial_record.hpp"
 #include "suites/registry.hpp"
 
@@ -416,6 +417,32 @@ TEST(EnhancedRrt, BadOptionsAreRejected) {
   EXPECT_THROW(m->make(resolve_options(m->options, {{"selection", "fastest"}})), std::invalid_argument);
   EXPECT_THROW(m->make(resolve_options(m->options, {{"k", "0"}})), std::invalid_argument);
   EXPECT_THROW(m->make(resolve_options(m->options, {{"sigma_min", "0.6"}})), std::invalid_argument);
+}
+
+// A tree's STL falsification counts once the witness validator confirms it (falsified_at,
+// enhanced_rrt.cpp; confirmed_falsification, rrt_extension.hpp), as rrt's does (test_cc.cpp
+// RrtGoesOnPastAFalsificationTheValidatorRefuses). On CC1 with 2 s extensions and a coarse RK4 step
+// of 0.5 s, this run reaches at t = 22 s nodes whose samples violate CC1 (the last gap 44.57 > 40)
+// but whose witnesses the validator refuses: held with no brake (u2 = 0), the search's 0.5 s steps
+// put a mode switch of the first follower (guard 0, on the gap y2 - y1) where the tight
+// re-simulation does not enable it ("transition 0 is not enabled at the end of the piece"). The
+// tree leaves each a leaf (nodes 12 to 14), goes on, and falsifies for real at node 15 with a brake
+// input. Found with `hyfal run --suite cc --set requirement=CC1 --set step=2
+// --set integration_step=0.5 --set input_levels=4 --method enhanced-rrt --trials 40 --threads 1
+// --timeout 2` (trial 30; refused_candidates in the metrics of the runs that meet a refusal: 5 of
+// 40, the others with thousands). Should CC's arithmetic change, this seed may meet no refusal any
+// more: the command finds another.
+TEST(EnhancedRrt, GoesOnPastAFalsificationTheValidatorRefuses) {
+  const SuiteEntry* s = find_suite("cc");
+  const auto sys = s->make(resolve_options(
+      s->parameters, {{"requirement", "CC1"}, {"step", "2"}, {"integration_step", "0.5"}, {"input_levels", "4"}}));
+  const PlannerOutcome out = solve(*sys, "enhanced-rrt", 6094553252298986880ull);
+  ASSERT_EQ(out.status, TrialStatus::falsified);
+  ASSERT_TRUE(out.metrics.contains("refused_candidates"));
+  EXPECT_GE(out.metrics.at("refused_candidates").get<int>(), 1);
+  EXPECT_LT(out.metrics.at("robustness").get<double>(), 0.0);
+  ASSERT_TRUE(out.trajectory.has_value());
+  EXPECT_TRUE(validate_witness(*sys, make_witness(*sys, "enhanced-rrt", 0, *out.trajectory)).valid);
 }
 
 }  // namespace

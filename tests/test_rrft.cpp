@@ -672,5 +672,56 @@ TEST(rrft, RejectsBadOptions) {
   EXPECT_NO_THROW(m->make(rrft_options()));
 }
 
+// A tree's STL falsification counts once the witness validator confirms it (after_add, rrft.cpp;
+// confirmed_falsification, rrt_extension.hpp), as rrt's does (test_cc.cpp
+// RrtGoesOnPastAFalsificationTheValidatorRefuses). On CC1 with 2 s extensions and a coarse RK4 step
+// of 0.5 s, this run's one tree (CC has no parameters: P is 0-dimensional) reaches at t = 22 s
+// nodes whose samples violate CC1 (the last gap 44.57 > 40) but whose witnesses the validator
+// refuses: held with no brake (u2 = 0), the search's 0.5 s steps put a mode switch of the first
+// follower (guard 0, on the gap y2 - y1) where the tight re-simulation does not enable it
+// ("transition 0 is not enabled at the end of the piece"). The tree leaves each a leaf, grows on,
+// and falsifies for real with a brake input. RRFT counts no refusals (rrft.cpp: a count would
+// depend on the rounds trees run ahead), so the refusals are read off the recorded tree: every node
+// whose state has y5 - y4 > 40 violates CC1 (its end is a sample), and the search ends at the first
+// one the validator confirms, so each such node other than the witness's end was refused (here
+// nodes 16 and 17; the witness ends at 18). Found with `hyfal run --suite cc --set requirement=CC1
+// --set step=2 --set integration_step=0.5 --set input_levels=4 --method rrft --trials 10
+// --threads 1 --timeout 3 --save-trees` (trial 3: its .tree.csv holds three nodes with y5 - y4 >
+// 40). Should CC's arithmetic change, this seed may meet no refusal any more: the command finds
+// another.
+TEST(rrft, GoesOnPastAFalsificationTheValidatorRefuses) {
+  const SuiteEntry* s = find_suite("cc");
+  const auto sys = s->make(resolve_options(
+      s->parameters, {{"requirement", "CC1"}, {"step", "2"}, {"integration_step", "0.5"}, {"input_levels", "4"}}));
+  ASSERT_EQ(sys->info().parameter_box.dim(), 0u);
+  const std::vector<std::string>& names = sys->info().state_names;
+  const std::size_t dim = names.size();
+  const auto y4 = static_cast<std::size_t>(std::find(names.begin(), names.end(), "y4") - names.begin());
+  const auto y5 = static_cast<std::size_t>(std::find(names.begin(), names.end(), "y5") - names.begin());
+  ASSERT_LT(y5, dim);
+  TreeRecorder trees(dim);
+  auto planner = find_method("rrft")->make(rrft_options());
+  const PlannerOutcome out =
+      planner->solve({*sys, sys->info().parameters, 291447431491524776ull, {60.0, 1'000'000}, {}, nullptr, &trees});
+  ASSERT_EQ(out.status, TrialStatus::falsified);
+  ASSERT_TRUE(out.trajectory.has_value());
+  const ValidationReport v = validate_witness(*sys, make_witness(*sys, "rrft", 0, *out.trajectory));
+  EXPECT_TRUE(v.valid) << v.reason;
+  ASSERT_TRUE(v.robustness.has_value());
+  EXPECT_LT(*v.robustness, 0.0);
+  int witness_ends = 0, refused = 0;
+  for (const RecordedTree& t : trees.trees())
+    for (std::size_t i = 0; i < t.parent.size(); ++i) {
+      const std::span<const double> x(t.states.data() + i * dim, dim);
+      if (!(x[y5] - x[y4] > 40.0)) continue;
+      if (std::equal(x.begin(), x.end(), out.trajectory->final_x.begin(), out.trajectory->final_x.end()))
+        ++witness_ends;
+      else
+        ++refused;
+    }
+  EXPECT_EQ(witness_ends, 1);
+  EXPECT_GE(refused, 1);
+}
+
 }  // namespace
 }  // namespace hyfal
