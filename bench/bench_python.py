@@ -117,6 +117,38 @@ def main():
     print(f"| call overhead: hyfal.robustness on 3 samples, `always[0,1] (x < 2)` | {t_tiny * 1e6:.2f} µs | |")
     print(f"| the same with AT6abc's formula (11 operators) | {t_tiny_at * 1e6:.2f} µs | |")
     print(f"| (the timing loop itself) | {t_noop * 1e6:.3f} µs | |")
+    black_box_cost()
+
+
+def black_box_cost():
+    """What a hyfal.BlackBox costs per simulation beyond the model itself: uniform random over 30 pieces of
+    1 s of a model that returns at once (31 samples), against a requirement it never violates, so every run
+    spends its budget; the same with a model that does 3,000 steps of numpy work per call, for scale."""
+    def instant(t, inputs):
+        return t, {"x": inputs["u"]}
+
+    def numpy_work(t, inputs):
+        ts = np.linspace(0.0, t[-1], 3001)
+        x = np.interp(ts, t, inputs["u"])
+        return ts, {"x": np.cumsum(x) * 0.01 / t[-1]}
+
+    budget = 2000
+    rows = []
+    for label, fn in [("returns at once (31 samples)", instant), ("numpy, 3,001 samples", numpy_work)]:
+        box = hyfal.BlackBox(simulate=fn, inputs={"u": (0.0, 1.0)}, signals=["x"], horizon=30.0, step=1.0)
+        times = []
+        for _ in range(3):
+            start = time.perf_counter()
+            r = hyfal.falsify(box, requirement="always[0,30] (x < 2)", method="random", budget=budget, trials=1, threads=1)
+            times.append(time.perf_counter() - start)
+            assert r["status"][0] == "node_cap"
+        rows.append((label, statistics.median(times) / budget))
+    print()
+    print("hyfal.BlackBox: uniform random, 30 pieces of 1 s, budget 2000, median of 3 runs")
+    print("| model | time per simulation (all of it) |")
+    print("|---|--:|")
+    for label, t in rows:
+        print(f"| {label} | {t * 1e6:.1f} µs |")
 
 
 if __name__ == "__main__":

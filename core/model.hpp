@@ -55,6 +55,10 @@
 
 #include <nlohmann/json.hpp>
 
+namespace hyfal::stl {
+class SignalModel;
+}  // namespace hyfal::stl
+
 namespace hyfal {
 
 class Decomposition;  // core/decomposition.hpp
@@ -361,6 +365,10 @@ class System {
   std::unique_ptr<Propagator> make_propagator() const { return make_propagator(info().integrator); }
   // The region decomposition of seed 002 Sect. 3.2 (HyDICE), when the suite provides one.
   virtual const Decomposition* decomposition() const { return nullptr; }
+  // A model known only by its simulations (a black box: core/black_box.hpp), when it is one:
+  // then it has no states, modes or flows, and only the searches over input signals, which
+  // simulate whole signals (core/signal_search.hpp), can drive it.
+  virtual const stl::SignalModel* signal_model() const { return nullptr; }
 };
 
 }  // namespace hyfal

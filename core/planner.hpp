@@ -189,6 +189,10 @@ struct MethodEntry {
   // decomposition): throws std::invalid_argument naming what is missing. Empty: any system.
   // Checked when a run is resolved, before anything is written.
   std::function<void(const System& system, const Json& options)> check_system = {};
+  // The method searches over whole input signals, each simulated from the start
+  // (core/signal_search.hpp): the only kind that can drive a model known only by its simulations
+  // (System::signal_model, core/black_box.hpp).
+  bool searches_signals = false;
 };
 
 // The method registry (core/planners/registry.cpp): one line per method.

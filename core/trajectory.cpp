@@ -675,6 +675,39 @@ Failure trace_violation(Replay& run, const Witness& w, ValidationReport& r) {
   return std::nullopt;
 }
 
+// A signal model's witness (System::signal_model: no states to re-simulate): its inputs in U,
+// then its requirement judged on the model's own simulation of the witness's input signal, run
+// again (the only independent check a black box admits).
+void validate_by_simulation(const System& system, const Witness& w, ValidationReport& r) {
+  const Trajectory& t = w.trajectory;
+  const auto fail = [&](std::string why) { r.reason = std::move(why); };
+  for (std::size_t i = 0; i < t.pieces.size(); ++i)
+    if (Failure why = inadmissible_input(system, t.pieces[i].mode, t.pieces[i], i, system.info().witness_tolerance))
+      return fail(std::move(*why));
+  const stl::Requirement* req = system.info().requirement.get();
+  if (!req) return fail("a model known only by its simulations is judged by an STL requirement; the instance has none");
+  if (!w.requirement) return fail("the instance has an STL requirement, but the witness records none");
+  if (w.requirement->formula != req->text)
+    return fail(fmt::format("the witness's requirement '{}' is not its instance's '{}'", w.requirement->formula, req->text));
+  std::vector<stl::InputPiece> pieces;
+  for (const TrajectoryPiece& piece : t.pieces) pieces.push_back({piece.duration, piece.u});
+  try {
+    stl::InputSimulator simulator(system);
+    const stl::SimulatedTrace& trace = simulator.run(pieces, t.parameters);
+    const double rho = stl::trace_robustness(*req, trace);
+    r.robustness = rho;
+    r.samples = trace.samples();
+    if (!(rho < 0.0))
+      return fail(fmt::format("the model's simulation of the witness's input ({} samples) has robustness {:.6g} >= 0 for '{}'",
+                              trace.samples(), rho, req->text));
+  } catch (const std::exception& e) {
+    return fail(fmt::format("the model failed to simulate the witness's input: {}", e.what()));
+  }
+  r.valid = true;
+  r.reason = fmt::format("valid: the model simulated the {} pieces again, robustness {:.6g} over {} samples", t.pieces.size(),
+                         *r.robustness, r.samples);
+}
+
 }  // namespace
 
 ValidationReport validate_witness(const System& system, const Witness& w) {
@@ -689,6 +722,10 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
     return fail(std::move(*why));
   }
   if (Failure why = outside_the_system(system, t)) return fail(std::move(*why));
+  if (system.signal_model()) {
+    validate_by_simulation(system, w, r);
+    return r;
+  }
   const IntegratorSettings tight = tight_integrator(system.info());
   if (Failure why = too_much_work(t, tight.max_step)) return fail(std::move(*why));
 

@@ -103,5 +103,6 @@ R run_released(const std::function<R(std::stop_token)>& work) {
 void bind_stl(py::module_& m);
 void bind_suites(py::module_& m);
 void bind_falsify(py::module_& m);
+void bind_black_box(py::module_& m);
 
 }  // namespace hyfal::python

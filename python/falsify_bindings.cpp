@@ -23,6 +23,10 @@
 #include "core/options.hpp"
 #include "core/trajectory.hpp"
 #include "parallel/trial_engine.hpp"
+#include "core/black_box.hpp"
+#include "core/requirements/requirement.hpp"
+#include "core/rng.hpp"
+#include "python/black_box.hpp"
 #include "python/common.hpp"
 #include "python/suite.hpp"
 #include "results/store.hpp"
@@ -194,9 +198,121 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
+// The checks every falsify() makes of its run options; the master seed.
+std::uint64_t check_run_options(long long trials, long long threads, py::handle seed_arg, double timeout,
+                                long long max_nodes, const std::string& experiment) {
+  if (trials < 1 || trials > cli::kMaxTrials)
+    throw py::value_error(fmt::format("trials={}: must be in [1, {}]", trials, cli::kMaxTrials));
+  if (threads < 0 || threads > cli::kMaxThreads)
+    throw py::value_error(fmt::format("threads={}: must be in [0, {}] (0: all cores)", threads, cli::kMaxThreads));
+  if (!(timeout > 0.0)) throw py::value_error(fmt::format("timeout={}: must be a positive number of seconds", timeout));
+  if (max_nodes < 1) throw py::value_error(fmt::format("max_nodes={}: must be at least 1", max_nodes));
+  if (!py::isinstance<py::int_>(seed_arg) || py::isinstance<py::bool_>(seed_arg))
+    throw py::type_error("seed: an integer in [0, 2^64)");
+  std::uint64_t seed = 0;
+  try {
+    seed = seed_arg.cast<std::uint64_t>();
+  } catch (const py::cast_error&) {
+    throw py::value_error("seed: an integer in [0, 2^64)");
+  }
+  cli::check_experiment_name(experiment);
+  return seed;
+}
+
+// Runs the jobs on the trial engine with the GIL released, their witnesses read back from a
+// temporary folder (the engine writes them as `hyfal run` does) that is removed: nothing is left
+// behind. The per-trial columns, trial_index order.
+py::dict run_and_collect(const std::vector<TrialJob>& jobs, long long threads, const Suite& suite_of_group) {
+  TemporaryFolder folder;
+  EngineOptions engine = cli::make_engine_options(static_cast<int>(threads), folder.path(), false);
+  auto records = run_released<std::vector<TrialRecord>>([&](std::stop_token stop) {
+    EngineOptions eo = engine;
+    eo.cancel = stop;
+    std::vector<TrialRecord> out;
+    std::mutex mutex;
+    run_trials(jobs, eo, [&](const TrialRecord& r) {
+      std::lock_guard lock(mutex);
+      out.push_back(r);
+    });
+    return out;
+  });
+  std::sort(records.begin(), records.end(),
+            [](const TrialRecord& a, const TrialRecord& b) { return a.key.trial_index < b.key.trial_index; });
+  py::list witnesses;
+  for (TrialRecord& r : records) {
+    if (r.witness.empty()) {
+      witnesses.append(py::none());
+      continue;
+    }
+    PyWitness w;
+    w.text = read_text(r.witness);
+    w.witness = witness_from_text(w.text);
+    w.suite = suite_of_group;
+    witnesses.append(py::cast(std::move(w)));
+    r.witness.clear();  // its file is gone with the folder
+  }
+  return columns(records, &witnesses);
+}
+
+// falsify() of a hyfal.BlackBox: the jobs `hyfal run` would make of a suite instance (the
+// instance key, config and trial seeds alike), of the black box with its requirement; a method
+// that cannot drive it, and a model that failed, are Python exceptions.
+py::dict falsify_black_box(const BlackBox& box, py::handle requirement, const std::string& method_name, py::handle budget,
+                           long long trials, long long threads, py::handle seed_arg, double timeout, long long max_nodes,
+                           const std::string& experiment, const py::kwargs& options) {
+  const MethodEntry& method = method_named(method_name);
+  if (!py::isinstance<py::str>(requirement))
+    throw py::type_error("requirement: a formula over the black box's signals and inputs (a string)");
+  const std::uint64_t seed = check_run_options(trials, threads, seed_arg, timeout, max_nodes, experiment);
+  Settings sets;
+  if (!budget.is_none()) sets.emplace_back("budget", setting_text(budget));
+  for (auto [key, value] : options) sets.emplace_back(key.cast<std::string>(), setting_text(value));
+  for (const auto& [key, value] : sets)
+    if (!has_option(method.options, key))
+      throw py::key_error(fmt::format("method '{}' has no option '{}' (options: {})", method.name, key,
+                                      option_names(method.options)));
+  if (has_option(method.options, "horizon") &&
+      std::none_of(sets.begin(), sets.end(), [](const auto& s) { return s.first == "horizon"; }))
+    sets.emplace_back("horizon", fmt::format("{}", box.spec.horizon));  // the box's signal length
+  std::shared_ptr<const System> system;
+  Json resolved;
+  try {
+    system = stl::with_requirement(box.system, requirement.cast<std::string>());
+    check_method_for_system(method, *system);
+    resolved = resolve_options(method.options, sets);
+    if (method.check_system) method.check_system(*system, resolved);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+  const std::string instance = system->info().instance.dump();
+  const Json config = {{"master_seed", seed}, {"max_nodes", max_nodes}, {"timeout_s", timeout},
+                       {"options", canonical_instance(method.options, resolved)}};
+  std::vector<TrialJob> jobs;
+  for (long long i = 0; i < trials; ++i) {
+    TrialJob job;
+    job.key = {experiment, system->info().suite, instance, method.name, config.dump(), i};
+    job.system = system;
+    job.method = &method;
+    job.method_options = resolved;
+    job.limits = {timeout, max_nodes};
+    job.seed = trial_seed(seed, job.key.suite, instance, method.name, i);
+    jobs.push_back(std::move(job));
+  }
+  py::dict result = run_and_collect(jobs, threads, Suite{nullptr, {}, system->info().instance, system});
+  const py::array errors = result["error"];
+  for (py::ssize_t i = 0; i < errors.size(); ++i) {
+    const py::object e = errors.attr("__getitem__")(i);
+    if (!e.is_none()) throw std::runtime_error(fmt::format("trial {}: {}", i, e.cast<std::string>()));
+  }
+  return result;
+}
+
 py::dict falsify(py::handle suite_arg, py::handle requirement, const std::string& method_name, py::handle budget,
                  long long trials, long long threads, py::handle seed_arg, double timeout, long long max_nodes,
                  const std::string& experiment, const py::kwargs& options) {
+  if (py::isinstance<BlackBox>(suite_arg))
+    return falsify_black_box(suite_arg.cast<const BlackBox&>(), requirement, method_name, budget, trials, threads, seed_arg,
+                             timeout, max_nodes, experiment, options);
   // The suite: a name, or a hyfal.Suite with the parameters it was made with.
   const SuiteEntry* suite = nullptr;
   Settings settings;
@@ -236,21 +352,7 @@ py::dict falsify(py::handle suite_arg, py::handle requirement, const std::string
                                       suite->name, method.name, key, option_names(suite->parameters),
                                       option_names(method.options)));
   cli::overlay_settings(settings, extra);  // a keyword replaces the Suite's value of the same key
-  if (trials < 1 || trials > cli::kMaxTrials)
-    throw py::value_error(fmt::format("trials={}: must be in [1, {}]", trials, cli::kMaxTrials));
-  if (threads < 0 || threads > cli::kMaxThreads)
-    throw py::value_error(fmt::format("threads={}: must be in [0, {}] (0: all cores)", threads, cli::kMaxThreads));
-  if (!(timeout > 0.0)) throw py::value_error(fmt::format("timeout={}: must be a positive number of seconds", timeout));
-  if (max_nodes < 1) throw py::value_error(fmt::format("max_nodes={}: must be at least 1", max_nodes));
-  if (!py::isinstance<py::int_>(seed_arg) || py::isinstance<py::bool_>(seed_arg))
-    throw py::type_error("seed: an integer in [0, 2^64)");
-  std::uint64_t seed = 0;
-  try {
-    seed = seed_arg.cast<std::uint64_t>();
-  } catch (const py::cast_error&) {
-    throw py::value_error("seed: an integer in [0, 2^64)");
-  }
-  cli::check_experiment_name(experiment);
+  const std::uint64_t seed = check_run_options(trials, threads, seed_arg, timeout, max_nodes, experiment);
 
   cli::TrialGroupSpec spec;
   spec.experiment = experiment;
@@ -263,39 +365,7 @@ py::dict falsify(py::handle suite_arg, py::handle requirement, const std::string
   spec.seed = seed;
   const cli::TrialGroup group = cli::resolve_trial_group(spec);
   const std::vector<TrialJob> jobs = cli::prepare_jobs(group, {});
-
-  // The witnesses go to a temporary folder (the engine writes them as `hyfal run` does) and are
-  // read back; nothing is left behind.
-  TemporaryFolder folder;
-  EngineOptions engine = cli::make_engine_options(static_cast<int>(threads), folder.path(), false);
-  auto records = run_released<std::vector<TrialRecord>>([&](std::stop_token stop) {
-    EngineOptions eo = engine;
-    eo.cancel = stop;
-    std::vector<TrialRecord> out;
-    std::mutex mutex;
-    run_trials(jobs, eo, [&](const TrialRecord& r) {
-      std::lock_guard lock(mutex);
-      out.push_back(r);
-    });
-    return out;
-  });
-  std::sort(records.begin(), records.end(),
-            [](const TrialRecord& a, const TrialRecord& b) { return a.key.trial_index < b.key.trial_index; });
-  Suite suite_of_group{suite, settings, group.instance, group.system};
-  py::list witnesses;
-  for (TrialRecord& r : records) {
-    if (r.witness.empty()) {
-      witnesses.append(py::none());
-      continue;
-    }
-    PyWitness w;
-    w.text = read_text(r.witness);
-    w.witness = witness_from_text(w.text);
-    w.suite = suite_of_group;
-    witnesses.append(py::cast(std::move(w)));
-    r.witness.clear();  // its file is gone with the folder
-  }
-  return columns(records, &witnesses);
+  return run_and_collect(jobs, threads, Suite{suite, settings, group.instance, group.system});
 }
 
 }  // namespace

@@ -209,5 +209,6 @@ PYBIND11_MODULE(hyfal, m) {
 
   python::bind_stl(m);
   python::bind_suites(m);
+  python::bind_black_box(m);
   python::bind_falsify(m);
 }

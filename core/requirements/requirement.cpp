@@ -83,6 +83,7 @@ class MonitoredSystem final : public System {
   }
   using System::make_propagator;
   const Decomposition* decomposition() const override { return inner_->decomposition(); }
+  const stl::SignalModel* signal_model() const override { return inner_->signal_model(); }
 
  private:
   std::shared_ptr<const System> inner_;

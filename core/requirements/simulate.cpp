@@ -51,6 +51,12 @@ Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece
   t.parameters.assign(p.begin(), p.end());
   t.initial_mode = info.initial_mode;
   t.initial_x = info.initial_state;
+  if (system.signal_model()) {  // no states: the pieces are the input signal itself
+    for (const InputPiece& piece : pieces) t.pieces.push_back({info.initial_mode, piece.u, piece.duration, {}, {}, -1});
+    t.final_mode = info.initial_mode;
+    t.final_spec = system.spec(info.initial_mode, t.final_x, p);
+    return t;
+  }
   NoSamples none;
   const auto prop = system.make_propagator();
   prop->set_trace(&none);
@@ -67,18 +73,67 @@ Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece
 }
 
 struct InputSimulator::Impl {
-  explicit Impl(const System& s) : system(s), prop(s.make_propagator()) {}
+  explicit Impl(const System& s) : system(s), model(s.signal_model()) {
+    if (!model) prop = s.make_propagator();
+  }
   const System& system;
-  std::unique_ptr<Propagator> prop;
+  const SignalModel* model;
+  std::unique_ptr<Propagator> prop;  // a model's own (none for a signal model)
   SimulatedTrace trace;
   std::vector<double> x, next, no_input;
+  // A signal model's: its interrupt (checked after each of its simulations, which nothing can cut
+  // short), and its outputs.
+  PropagationInterrupt interrupt;
+  bool interrupted = false;
+  std::vector<std::vector<double>> outputs;
+
+  const SimulatedTrace& run_model(std::span<const InputPiece> pieces, std::span<const double> p);
 };
 
 InputSimulator::InputSimulator(const System& system) : impl_(std::make_unique<Impl>(system)) {}
 InputSimulator::~InputSimulator() = default;
-void InputSimulator::set_interrupt(PropagationInterrupt interrupt) { impl_->prop->set_interrupt(std::move(interrupt)); }
-bool InputSimulator::interrupted() const { return impl_->prop->interrupted(); }
+void InputSimulator::set_interrupt(PropagationInterrupt interrupt) {
+  if (impl_->prop)
+    impl_->prop->set_interrupt(std::move(interrupt));
+  else
+    impl_->interrupt = std::move(interrupt), impl_->interrupted = false;
+}
+bool InputSimulator::interrupted() const { return impl_->prop ? impl_->prop->interrupted() : impl_->interrupted; }
 const SimulatedTrace& InputSimulator::trace() const { return impl_->trace; }
+
+// A signal model's trace: its outputs at its samples, the input held at each (at a piece's end,
+// that piece's: a sample belongs to the prefix that reaches it), the safety signal s(q0, no
+// state) throughout, and piece_ends from the samples' times.
+const SimulatedTrace& InputSimulator::Impl::run_model(std::span<const InputPiece> pieces, std::span<const double> p) {
+  const SystemInfo& info = system.info();
+  trace.signals.resize(system_signals(info).size());
+  if (interrupted || std::chrono::steady_clock::now() >= interrupt.deadline || interrupt.stop.stop_requested()) {
+    interrupted = true;
+    trace.end = PropagationEnd::rejected;
+    return trace;
+  }
+  outputs.resize(info.outputs.size());
+  model->simulate(pieces, p, trace.time, outputs);
+  const std::size_t n = trace.time.size(), m = info.input_names.size();
+  for (std::size_t k = 0; k < outputs.size(); ++k) trace.signals[k] = outputs[k];
+  const double safety = system.spec(info.initial_mode, x, p);
+  std::size_t piece = 0;
+  double end = pieces.empty() ? 0.0 : pieces[0].duration;
+  for (std::size_t i = 0; i < n; ++i) {
+    while (piece + 1 < pieces.size() && trace.time[i] > end * (1.0 + 1e-12) + 1e-12) {
+      trace.piece_ends.push_back(i);
+      end += pieces[++piece].duration;
+    }
+    for (std::size_t j = 0; j < m; ++j) trace.signals[outputs.size() + j].push_back(pieces.empty() ? 0.0 : pieces[piece].u[j]);
+    trace.signals[outputs.size() + m].push_back(safety);
+  }
+  while (trace.piece_ends.size() < pieces.size()) trace.piece_ends.push_back(n);
+  if (std::chrono::steady_clock::now() >= interrupt.deadline || interrupt.stop.stop_requested()) {
+    interrupted = true;
+    trace.end = PropagationEnd::rejected;
+  }
+  return trace;
+}
 
 const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, std::span<const double> p) {
   const System& system = impl_->system;
@@ -99,6 +154,7 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   trace.integration_steps = 0;
   trace.transitions = 0;
   trace.piece_ends.clear();
+  if (impl_->model) return impl_->run_model(pieces, p);
   AllSignals sink(system, trace, p);
   Propagator& prop = *impl_->prop;
   prop.set_trace(&sink);

@@ -59,6 +59,21 @@ inline double linear_value(double a, double b, double w) {
 std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
                                              double step);
 
+// A model known only by its simulations (System::signal_model: a black box, such as a Python
+// function, core/black_box.hpp): the output signals of an input signal, from time 0. The samples
+// it returns are its own (any times, increasing); the simulators below add the inputs held at
+// each sample and the safety signal. A prefix of its trace (the adaptive search's pruning) is
+// sound only for a causal model: outputs up to t that depend on the inputs up to t only.
+class SignalModel {
+ public:
+  virtual ~SignalModel() = default;
+  // The outputs (SystemInfo::outputs order) at `time`, for `pieces` (each u held for its duration)
+  // with parameters p; `time` and each of `outputs` are overwritten. Throws std::runtime_error
+  // with the model's own message when it fails or returns something malformed.
+  virtual void simulate(std::span<const InputPiece> pieces, std::span<const double> p, std::vector<double>& time,
+                        std::vector<std::vector<double>>& outputs) const = 0;
+};
+
 // Simulates `system` from its initial state with parameters p under `pieces` (each u of the
 // system's input dimension). Throws std::invalid_argument on a piece of the wrong size or a
 // negative or non-finite duration.

@@ -552,7 +552,7 @@ MethodEntry adaptive_method() {
           "FalStar's probabilistically adaptive tree search (Ernst et al. 2019): input levels refined corners first, "
           "pruned by the prefix robustness bound",
           adaptive_options(), [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
-          check_adaptive_system};
+          check_adaptive_system, true};
 }
 
 MethodEntry adaptive_local_method() {
@@ -568,7 +568,7 @@ MethodEntry adaptive_local_method() {
           "tree-optimiser hybrid: FalStar's adaptive tree chooses the signal's shape; where it stalls, the best signal "
           "is polished by a short Nelder-Mead over its values (NLopt)",
           std::move(options), [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
-          check_adaptive_system};
+          check_adaptive_system, true};
 }
 
 }  // namespace hyfal

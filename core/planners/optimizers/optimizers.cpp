@@ -258,7 +258,7 @@ MethodEntry optimizer_method(std::string name, std::string description, Optimize
                                  o.contains("batch") ? o.at("batch").get<std::size_t>() : 1,
                                  input_shape_of(o.at("input_shape").get<std::string>())});
           },
-          check_optimizer_system};
+          check_optimizer_system, true};
 }
 
 }  // namespace
