@@ -46,11 +46,6 @@ const char* end_name(PropagationEnd e) {
   return "rejected";
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 }  // namespace
 
 py::list option_specs(const std::vector<OptionSpec>& specs) {
@@ -130,7 +125,7 @@ std::shared_ptr<const stl::SimulatedTrace> trace_of(const Suite& s, const stl::R
 }
 
 // The input signal's pieces from Python arguments, checked as `hyfal simulate` checks its CSV
-// (app/simulate.cpp: times from 0, increasing; values finite, inside the input box up to 1e-9,
+// (stl::sampled_signal_problem: times from 0, increasing; values inside the input box up to 1e-9,
 // then clamped into it); zoh: value k held from times[k] to times[k+1]; linear: control points.
 std::vector<stl::InputPiece> input_pieces(const Suite& s, py::handle inputs, py::handle times_arg,
                                           const std::string& interpolation) {
@@ -141,22 +136,17 @@ std::vector<stl::InputPiece> input_pieces(const Suite& s, py::handle inputs, py:
   const std::size_t n = static_cast<std::size_t>(times.shape(0));
   const double* t = times.data();
   require_finite(t, n, "times");
-  if (n < 2) throw py::value_error("times: at least two are needed (a start and an end time)");
-  if (t[0] != 0.0) throw py::value_error(fmt::format("times: the first time must be 0, not {}", t[0]));
-  for (std::size_t k = 1; k < n; ++k)
-    if (!(t[k] > t[k - 1]))
-      throw py::value_error(fmt::format("times: time {} at index {} does not increase", t[k], k));
   const std::vector<std::string>& names = info.input_names;
   const std::size_t m = names.size();
   const Box& box = s.system->inputs(info.initial_mode).box;
   std::vector<std::vector<double>> rows(n, std::vector<double>(m));
+  std::vector<std::string> column_name(m);  // how the caller named each input's values
   const auto set_column = [&](std::size_t i, const double* v, std::size_t stride, const std::string& what) {
+    column_name[i] = what;
     for (std::size_t k = 0; k < n; ++k) {
       const double x = v[k * stride];
       if (!std::isfinite(x)) throw py::value_error(fmt::format("{}: value {} at index {} is not a finite number", what, x, k));
-      if (x < box.lo[i] - 1e-9 || x > box.hi[i] + 1e-9)
-        throw py::value_error(fmt::format("{}: {} at index {} is outside [{}, {}]", what, x, k, box.lo[i], box.hi[i]));
-      rows[k][i] = std::min(box.hi[i], std::max(box.lo[i], x));
+      rows[k][i] = x;
     }
   };
   if (py::isinstance<py::dict>(inputs) || py::hasattr(inputs, "keys")) {
@@ -164,14 +154,7 @@ std::vector<stl::InputPiece> input_pieces(const Suite& s, py::handle inputs, py:
     for (py::handle key : inputs.attr("keys")()) {
       if (!py::isinstance<py::str>(key)) throw py::type_error("inputs: the names (keys) must be strings");
       const std::string name = key.cast<std::string>();
-      std::size_t i = 0;
-      for (; i < m; ++i) {  // a name, or an alias the suite declares (ARCH-COMP's throttle, brake)
-        if (lower(name) == lower(names[i])) break;
-        if (i < info.input_aliases.size() &&
-            std::any_of(info.input_aliases[i].begin(), info.input_aliases[i].end(),
-                        [&](const std::string& a) { return lower(a) == lower(name); }))
-          break;
-      }
+      const std::size_t i = stl::input_named(info, name);  // a name, or an alias (ARCH-COMP's throttle, brake)
       if (i == m)
         throw py::key_error(fmt::format("inputs: '{}' is not an input of suite '{}' (inputs: {})", name, s.entry->name,
                                         fmt::join(names, ", ")));
@@ -192,14 +175,21 @@ std::vector<stl::InputPiece> input_pieces(const Suite& s, py::handle inputs, py:
                                         py::str(v.attr("shape")).cast<std::string>(), n, m, fmt::join(names, ", ")));
     for (std::size_t i = 0; i < m; ++i) set_column(i, v.data() + i, m, fmt::format("inputs[:, {}] ({})", i, names[i]));
   }
-  if (interpolation == "linear") {
-    // As `hyfal simulate --interpolation linear`: pieces of the integrator's (largest) step.
-    const double step = std::min(info.integrator.max_step, info.integrator.step);
-    return stl::linear_signal_pieces(std::span<const double>(t, n), rows, step);
+  using Kind = stl::SampledSignalProblem::Kind;
+  const std::span<const double> sample_times(t, n);
+  if (const auto p = stl::sampled_signal_problem(sample_times, rows, box)) {
+    switch (p->kind) {
+      case Kind::too_few: throw py::value_error("times: at least two are needed (a start and an end time)");
+      case Kind::first_time: throw py::value_error(fmt::format("times: the first time must be 0, not {}", p->value));
+      case Kind::not_increasing:
+        throw py::value_error(fmt::format("times: time {} at index {} does not increase", p->value, p->sample));
+      case Kind::outside:
+        throw py::value_error(fmt::format("{}: {} at index {} is outside [{}, {}]", column_name[p->input], p->value, p->sample,
+                                          box.lo[p->input], box.hi[p->input]));
+    }
   }
-  std::vector<stl::InputPiece> pieces;
-  for (std::size_t k = 0; k + 1 < n; ++k) pieces.push_back({t[k + 1] - t[k], rows[k]});
-  return pieces;
+  // As `hyfal simulate --interpolation linear`: pieces of the integrator's (largest) step.
+  return stl::sampled_signal_pieces(sample_times, std::move(rows), box, interpolation == "linear" ? stl::linear_piece_step(info) : 0.0);
 }
 
 py::dict verdict_dict(const stl::TraceVerdict& v) {

@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/model.hpp"
@@ -73,6 +75,28 @@ class SignalModel {
   virtual void simulate(std::span<const InputPiece> pieces, std::span<const double> p, std::vector<double>& time,
                         std::vector<std::vector<double>>& outputs) const = 0;
 };
+
+// An input signal given at samples, as `hyfal simulate` reads it from a CSV and the Python module
+// from arrays: values[k] (one per input) at times[k]; held from times[k] to times[k + 1] (zoh), or,
+// with linear_step > 0, the line through the samples cut into pieces of at most linear_step
+// (linear_signal_pieces). What either accepts: at least two samples, times from 0 and increasing,
+// each value inside `box` up to 1e-9 (then clamped into it). The first sample that breaks it, in
+// sample order and, within a sample, time first, then the inputs in order.
+struct SampledSignalProblem {
+  enum class Kind { too_few, first_time, not_increasing, outside } kind;
+  std::size_t sample = 0, input = 0;  // input: for `outside`
+  double value = 0.0;                 // the time (first_time, not_increasing) or the value (outside)
+};
+std::optional<SampledSignalProblem> sampled_signal_problem(std::span<const double> times,
+                                                          std::span<const std::vector<double>> values, const Box& box);
+// The pieces of a signal sampled_signal_problem accepts (values clamped into `box`).
+std::vector<InputPiece> sampled_signal_pieces(std::span<const double> times, std::vector<std::vector<double>> values,
+                                              const Box& box, double linear_step);
+// The pieces a linear signal is cut into for `info`'s system: its integrator's (largest) step.
+double linear_piece_step(const SystemInfo& info);
+// The input `name` names: an input's name or an alias the suite declares (SystemInfo::input_aliases,
+// e.g. ARCH-COMP's `throttle`), case-insensitively; info.input_names.size() when none.
+std::size_t input_named(const SystemInfo& info, std::string_view name);
 
 // Simulates `system` from its initial state with parameters p under `pieces` (each u of the
 // system's input dimension). Throws std::invalid_argument on a piece of the wrong size or a
