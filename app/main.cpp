@@ -557,8 +557,8 @@ void add_simulate_command(CommandLine& c) {
   s->add_option("--set", c.simulate_args.sets, "instance parameter, key=value (repeatable; requirement=... adds one)");
   s->add_option("--input", c.simulate_args.input,
                 "the input CSV (a header row time,<inputs> is optional; an input may go by its alias, e.g. "
-                "time,throttle,brake for at: see 'hyfal list')")
-      ->required();
+                "time,throttle,brake for at: see 'hyfal list'); required unless the suite has no inputs (f16): it "
+                "then runs for the longest horizon of its requirements");
   s->add_option("--trace", c.simulate_args.trace, "write the trace (time and every signal) as CSV to this file; - for stdout");
   s->add_option("--interpolation", c.simulate_args.interpolation,
                 "zoh: each row's input is held until the next row (the default, the searches' signals); linear: the rows "

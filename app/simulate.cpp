@@ -95,14 +95,16 @@ std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std:
                                              const std::vector<std::vector<std::string>>& aliases, double linear_step) {
   std::istringstream in(text);
   std::string line;
-  std::vector<std::pair<double, std::vector<double>>> rows;
+  std::vector<double> times;
+  std::vector<std::vector<double>> values;
+  std::vector<int> row_of;  // each sample's row in the file
   int row = 0;
   while (std::getline(in, line)) {
     ++row;
     if (line.empty() || line == "\r") continue;
     const std::vector<std::string> fields = split_fields(line);
     double t = 0.0;
-    if (rows.empty() && row == 1 && !parse_number(fields[0], t)) {  // a header
+    if (times.empty() && row == 1 && !parse_number(fields[0], t)) {  // a header
       const auto names = [&](std::size_t i) {
         std::vector<std::string> v{inputs[i]};
         if (i < aliases.size()) v.insert(v.end(), aliases[i].begin(), aliases[i].end());
@@ -127,34 +129,32 @@ std::vector<stl::InputPiece> parse_input_csv(const std::string& text, const std:
       if (!parse_number(fields[c], v))
         throw UsageError(fmt::format("'{}': row {}, column {}: '{}' is not a finite number", where, row, c + 1,
                                      one_line(fields[c])));
-      if (c == 0) {
+      if (c == 0)
         t = v;
-        continue;
-      }
-      const std::size_t k = c - 1;
-      if (v < box.lo[k] - 1e-9 || v > box.hi[k] + 1e-9)
-        throw UsageError(fmt::format("'{}': row {}, column {} ({}): {} is outside [{}, {}]", where, row, c + 1,
-                                     inputs[k], v, box.lo[k], box.hi[k]));
-      u[k] = std::min(box.hi[k], std::max(box.lo[k], v));
+      else
+        u[c - 1] = v;
     }
-    if (rows.empty() && t != 0.0) throw UsageError(fmt::format("'{}': row {}: the first time must be 0", where, row));
-    if (!rows.empty() && !(t > rows.back().first))
-      throw UsageError(fmt::format("'{}': row {}: time {} does not increase", where, row, t));
-    rows.emplace_back(t, std::move(u));
+    times.push_back(t);
+    values.push_back(std::move(u));
+    row_of.push_back(row);
   }
-  if (rows.size() < 2) throw UsageError(fmt::format("'{}': at least two rows are needed (a start and an end time)", where));
-  if (linear_step > 0.0) {  // the rows are control points of a linear signal
-    std::vector<double> times;
-    std::vector<std::vector<double>> values;
-    for (auto& [t, u] : rows) {
-      times.push_back(t);
-      values.push_back(u);
+  // What the signal must be (stl::sampled_signal_problem, as the Python module checks it), in the
+  // file's rows and columns.
+  using Kind = stl::SampledSignalProblem::Kind;
+  if (const auto p = stl::sampled_signal_problem(times, values, box)) {
+    const int at = p->sample < row_of.size() ? row_of[p->sample] : row;
+    switch (p->kind) {
+      case Kind::too_few:
+        throw UsageError(fmt::format("'{}': at least two rows are needed (a start and an end time)", where));
+      case Kind::first_time: throw UsageError(fmt::format("'{}': row {}: the first time must be 0", where, at));
+      case Kind::not_increasing:
+        throw UsageError(fmt::format("'{}': row {}: time {} does not increase", where, at, p->value));
+      case Kind::outside:
+        throw UsageError(fmt::format("'{}': row {}, column {} ({}): {} is outside [{}, {}]", where, at, p->input + 2,
+                                     inputs[p->input], p->value, box.lo[p->input], box.hi[p->input]));
     }
-    return stl::linear_signal_pieces(times, values, linear_step);
   }
-  std::vector<stl::InputPiece> pieces;
-  for (std::size_t k = 0; k + 1 < rows.size(); ++k) pieces.push_back({rows[k + 1].first - rows[k].first, rows[k].second});
-  return pieces;
+  return stl::sampled_signal_pieces(times, std::move(values), box, linear_step);
 }
 
 int cmd_simulate(const SimulateArgs& args) {
@@ -162,9 +162,22 @@ int cmd_simulate(const SimulateArgs& args) {
   const SystemInfo& info = system->info();
   // Linear: pieces of the integrator's step (its largest, for an adaptive one), each holding the
   // line's midpoint value.
-  const double linear_step = args.interpolation == "linear" ? std::min(info.integrator.max_step, info.integrator.step) : 0.0;
-  const auto pieces = parse_input_csv(read_input_file(args.input), info.input_names, system->inputs(info.initial_mode).box,
-                                      args.input, info.input_aliases, linear_step);
+  const double linear_step = args.interpolation == "linear" ? stl::linear_piece_step(info) : 0.0;
+  std::vector<stl::InputPiece> pieces;
+  if (!args.input.empty()) {
+    pieces = parse_input_csv(read_input_file(args.input), info.input_names, system->inputs(info.initial_mode).box,
+                             args.input, info.input_aliases, linear_step);
+  } else if (!info.input_names.empty()) {
+    throw UsageError(fmt::format("--input is required: suite '{}' has inputs ({})", info.suite, accepted_input_names(info)));
+  } else {  // no inputs: one piece as long as the longest horizon its requirements read
+    double length = info.requirement ? info.requirement->formula.horizon() : 0.0;
+    for (const auto& r : info.requirements) length = std::max(length, stl::resolve_requirement(info, r.id).formula.horizon());
+    if (!(length > 0.0 && std::isfinite(length)))
+      throw UsageError(fmt::format("--input: suite '{}' has no inputs and no bounded requirement to give the simulation's "
+                                   "length: give a CSV of times only (time, 0, T)",
+                                   info.suite));
+    pieces.push_back({length, {}});
+  }
   const stl::SimulatedTrace trace = stl::simulate_inputs(*system, pieces, info.parameters);
   // Every verdict before anything is written: a requirement asked for by name that the trace
   // cannot decide is refused.

@@ -45,6 +45,7 @@ const std::vector<SuiteEntry>& all_suites() {
         aircraft_suite(),
         at_suite(),
         cc_suite(),
+        f16_suite(),
     };
     for (auto& s : all) s = with_requirement_parameter(std::move(s));
     return all;

@@ -258,6 +258,7 @@ std::vector<BadCase> bad_cases() {
   add("SimulateRequirementBeyondTheTrace",
       {"simulate", "--suite", "at", "--set", "requirement=AT1", "--input", "in.csv", "--trace", "out/t.csv"},
       csv("time,throttle,brake\n0,50,0\n10,50,0\n"));
+  add("SimulateWithoutInputOfASuiteWithInputs", {"simulate", "--suite", "at", "--trace", "out/t.csv"});
   add("SimulateHeaderNamesAnotherInput", {"simulate", "--suite", "at", "--input", "in.csv", "--trace", "out/t.csv"},
       csv("time,gas,brake\n0,50,0\n10,50,0\n"));
   add("SimulateInterpolationUnknown", {"simulate", "--suite", "at", "--input", "in.csv", "--interpolation", "cubic", "--trace", "out/t.csv"},
@@ -572,6 +573,19 @@ TEST_F(CliTest, AWitnessAsArchCsvReplaysToItsRobustness) {
 // A trace shorter than a requirement's horizon is a prefix: its robustness interval, and
 // "unknown" where that does not decide the verdict, never a verdict from the samples it lacks
 // (issue 39: AT1 on 10 s of signal was "falsified: no"). The header may use the inputs' aliases.
+// A suite without inputs (f16) needs no input CSV: it runs for its requirements' longest horizon
+// (F16's 15 s), the same run as a CSV of times only; at the ARCH nominal attitude the lowest
+// altitude is 1743.09 ft (the reference's, tests/test_f16.cpp).
+TEST_F(CliTest, SimulateASuiteWithoutInputsNeedsNoInputCsv) {
+  const Result s = hyfal({"simulate", "--suite", "f16", "--trace", "t.csv"});
+  ASSERT_EQ(s.code, 0) << s;
+  EXPECT_TRUE(contains(s.out, "| F16 | 1743.09 | no |")) << s;
+  write_text(work() / "times.csv", "time\n0\n15\n");
+  const Result t = hyfal({"simulate", "--suite", "f16", "--input", "times.csv", "--trace", "u.csv"});
+  ASSERT_EQ(t.code, 0) << t;
+  EXPECT_EQ(read_text(work() / "t.csv"), read_text(work() / "u.csv"));
+}
+
 TEST_F(CliTest, SimulateJudgesATraceShorterThanTheHorizonAsAPrefix) {
   write_text(work() / "short.csv", "time,throttle,brake\n0,50,0\n10,50,0\n");
   const Result s = hyfal({"simulate", "--suite", "at", "--input", "short.csv"});
