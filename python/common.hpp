@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include "core/model.hpp"
+#include "core/planner.hpp"
 
 namespace hyfal::python {
 
@@ -60,6 +61,9 @@ class SignalTable {
 // Python's `key=value` as the text `hyfal run --set key=value` would give (bool: true/false,
 // int, float: repr, str as is, lists/tuples/dicts as JSON).
 std::string setting_text(py::handle value);
+
+// The keys of declared settings, "a, b, c": what an error about an unknown one lists.
+std::string option_names(const std::vector<OptionSpec>& specs);
 
 // A copy of `values` as a read-only 1-D numpy array.
 py::array_t<double> to_numpy(const std::vector<double>& values);

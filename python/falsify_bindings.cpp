@@ -152,12 +152,6 @@ py::dict columns(const std::vector<TrialRecord>& rows, const py::list* witnesses
   return d;
 }
 
-std::string option_names(const std::vector<OptionSpec>& specs) {
-  std::vector<std::string> keys;
-  for (const auto& s : specs) keys.push_back(s.key);
-  return fmt::format("{}", fmt::join(keys, ", "));
-}
-
 std::string method_names() {
   std::vector<std::string> names;
   for (const auto& m : all_methods()) names.push_back(m.name);

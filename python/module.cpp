@@ -7,6 +7,7 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "app/runner.hpp"
 #include "core/files.hpp"
@@ -129,6 +130,12 @@ void SignalTable::copy_signal(std::size_t k, double* out) const {
       throw py::value_error(fmt::format("signal '{}': value {} at index {} is not a finite number", names_[k], v, i));
     out[i] = v;
   }
+}
+
+std::string option_names(const std::vector<OptionSpec>& specs) {
+  std::vector<std::string> keys;
+  for (const auto& s : specs) keys.push_back(s.key);
+  return fmt::format("{}", fmt::join(keys, ", "));
 }
 
 std::string setting_text(py::handle value) {

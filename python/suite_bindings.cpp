@@ -23,12 +23,6 @@ namespace hyfal::python {
 
 namespace {
 
-std::string names_of(const std::vector<OptionSpec>& specs) {
-  std::vector<std::string> keys;
-  for (const auto& s : specs) keys.push_back(s.key);
-  return fmt::format("{}", fmt::join(keys, ", "));
-}
-
 std::string suite_names() {
   std::vector<std::string> names;
   for (const auto& s : all_suites()) names.push_back(s.name);
@@ -212,7 +206,7 @@ Suite make_suite(const std::string& name, const Settings& settings) {
   for (const auto& [key, value] : settings)
     if (!has_option(s.entry->parameters, key))
       throw py::key_error(fmt::format("suite '{}' has no parameter '{}' (parameters: {})", name, key,
-                                      names_of(s.entry->parameters)));
+                                      option_names(s.entry->parameters)));
   s.settings = settings;
   s.instance = canonical_instance(s.entry->parameters, resolve_options(s.entry->parameters, settings));
   try {
