@@ -250,6 +250,8 @@ int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const Tabl
              std::find(profile.row_labels.begin(), profile.row_labels.end(), l.rows[i].label) != profile.row_labels.end();
   std::vector<TrialGroup> groups;
   std::vector<std::pair<std::size_t, std::size_t>> places;  // (row, column) of groups[k]
+  // Why a column's method cannot drive a row's suite (a cell that does not apply: "n/a").
+  std::vector<std::vector<std::string>> not_applicable(l.rows.size(), std::vector<std::string>(l.columns.size()));
   for (std::size_t i = 0; i < l.rows.size(); ++i) {
     if (!run[i]) continue;
     const SuiteEntry* suite = find_suite(l.rows[i].suite);
@@ -274,6 +276,9 @@ int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const Tabl
       spec.seed = a.seed;
       try {
         groups.push_back(resolve_trial_group(spec));
+      } catch (const MethodNotApplicable& e) {
+        not_applicable[i][c] = e.what();
+        continue;
       } catch (const std::invalid_argument& e) {
         throw UsageError(fmt::format("table '{}' cell '{}' x '{}': {}", table.id, l.rows[i].label, l.columns[c].label, e.what()));
       } catch (const UsageError& e) {
@@ -294,7 +299,7 @@ int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const Tabl
   for (std::size_t k = 0; k < groups.size(); ++k)
     if (const auto& requirement = groups[k].system->info().requirement)
       scales[places[k].first] = stl::threshold_scale(requirement->formula);
-  const LeagueReport report = make_league_report(table, trials, run, scales);
+  const LeagueReport report = make_league_report(table, trials, run, scales, not_applicable);
   ReportHeader header = make_header(a, profile, run_info->engine, experiment);
   for (const auto& cells : run_info->trials) add_cpu_time(header, cells);
   const std::string markdown = to_markdown(report, header);

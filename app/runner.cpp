@@ -133,6 +133,11 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
   // The method's own checks (relations between options, what it needs of the system) run here,
   // once, so that a bad combination is reported before the database is opened, not per trial.
   try {
+    check_method_for_system(*method, *g.system);
+  } catch (const std::invalid_argument& e) {
+    throw MethodNotApplicable(fmt::format("method '{}' on suite '{}': {}", method->name, suite->name, e.what()));
+  }
+  try {
     if (method->check_system) method->check_system(*g.system, g.options);
     (void)method->make(g.options);
   } catch (const std::invalid_argument& e) {

@@ -25,6 +25,12 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A method that cannot drive the suite at all (check_method_for_system): a usage error for
+// `hyfal run`, a cell that does not apply ("n/a") in a league.
+struct MethodNotApplicable : UsageError {
+  using UsageError::UsageError;
+};
+
 // The short commit of the source tree hyfal was built from, or "unknown".
 std::string git_commit();
 

@@ -90,12 +90,4 @@ std::shared_ptr<const System> make_black_box(const BlackBoxSpec& spec, std::shar
   return std::make_shared<BlackBoxSystem>(std::move(info), spec.input_box, std::move(model));
 }
 
-void check_method_for_system(const MethodEntry& method, const System& system) {
-  if (system.signal_model() && !method.searches_signals)
-    throw std::invalid_argument(fmt::format("method '{}' grows a tree from the model's states, and a model known only by "
-                                            "its simulations has none: use a search over input signals (random, "
-                                            "annealing, cmaes, nelder-mead, adaptive, adaptive-local)",
-                                            method.name));
-}
-
 }  // namespace hyfal

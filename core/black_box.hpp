@@ -2,7 +2,7 @@
 // output signals come out (stl::SignalModel, core/requirements/simulate.hpp), with no states,
 // modes or flows to see. A user's own model in another language (the Python module's
 // hyfal.BlackBox) is one. Only the searches over whole input signals (the optimisers and the
-// adaptive search, core/signal_search.hpp: MethodEntry::searches_signals) can drive it; the
+// adaptive search, core/signal_search.hpp: MethodEntry::searches_signals, check_method_for_system) can drive it; the
 // trees, which propagate a state, cannot. Its witnesses are re-checked by the validator by running
 // the model again on their input (validate_witness), and its inputs are a held signal of δt
 // (SystemInfo::held_inputs), interpolation admitted (a linear signal reaches the model as 10
@@ -31,9 +31,5 @@ struct BlackBoxSpec {
 // is not an identifier or is used twice, a range with lo > hi or not finite, horizon or step not
 // positive and finite.
 std::shared_ptr<const System> make_black_box(const BlackBoxSpec& spec, std::shared_ptr<const stl::SignalModel> model);
-
-// Throws std::invalid_argument unless `method` can drive `system`: a model known only by its
-// simulations needs a method that searches whole input signals.
-void check_method_for_system(const MethodEntry& method, const System& system);
 
 }  // namespace hyfal

@@ -75,6 +75,12 @@ struct Box {
       if (!(x[i] >= lo[i] && x[i] <= hi[i])) return false;
     return true;
   }
+  // An axis of non-zero width: something to search (a P that is a point is not).
+  bool has_width() const {
+    for (std::size_t i = 0; i < lo.size(); ++i)
+      if (hi[i] > lo[i]) return true;
+    return false;
+  }
 };
 
 // Packs `agents` per-agent modes of `bits` bits each into one Mode (multi-agent suites).

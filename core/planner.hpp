@@ -193,7 +193,17 @@ struct MethodEntry {
   // (core/signal_search.hpp): the only kind that can drive a model known only by its simulations
   // (System::signal_model, core/black_box.hpp).
   bool searches_signals = false;
+  // The method searches the system's time-invariant parameters P (SystemInfo::parameter_box)
+  // when P has width (RRFT's seeds; the signal searches' decision vectors); the others run at the
+  // instance's p. A system with no inputs is searched only over P, so only such a method runs on it.
+  bool searches_parameters = false;
 };
+
+// Throws std::invalid_argument (one line) when `method` cannot drive `system`: a tree method on a
+// model known only by its simulations (core/black_box.hpp), or a method that searches input
+// signals only on a system whose only freedom is its parameters P. Checked with the method's own
+// check_system before a run is written (app/runner.cpp, the Python module).
+void check_method_for_system(const MethodEntry& method, const System& system);
 
 // The method registry (core/planners/registry.cpp): one line per method.
 const std::vector<MethodEntry>& all_methods();

@@ -37,6 +37,7 @@ void SignalSimulations::reserve(std::size_t n) {
   while (slots_.size() < n) {
     std::vector<stl::InputPiece> pieces(pieces_, stl::InputPiece{dt_, std::vector<double>(system_.info().input_names.size())});
     slots_.push_back(std::make_unique<SignalSlot>(system_, requirement_, std::move(pieces)));
+    slots_.back()->parameters.assign(ctx_.parameters.begin(), ctx_.parameters.end());
     slots_.back()->simulator.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
     if (shape_ == InputShape::linear) {
       const std::size_t m = system_.info().input_names.size();
@@ -76,7 +77,7 @@ std::size_t SignalSimulations::samples_through(const stl::SimulatedTrace& trace,
 }
 
 void SignalSimulations::simulate(SignalSlot& slot) const {
-  const stl::SimulatedTrace& trace = slot.simulator.run(driving_pieces(slot), ctx_.parameters);
+  const stl::SimulatedTrace& trace = slot.simulator.run(driving_pieces(slot), slot.parameters);
   slot.steps = trace.integration_steps;
   slot.interrupted = slot.simulator.interrupted();
   slot.problem = trace.problem;
@@ -110,7 +111,7 @@ double SignalSimulations::account(const SignalSlot& slot) {
 // counted (metric refused_candidates).
 bool SignalSimulations::confirmed(const SignalSlot& slot) {
   const std::vector<stl::InputPiece>& pieces = shape_ == InputShape::linear ? slot.fine : slot.pieces;
-  Trajectory t = stl::trajectory_of_inputs(system_, pieces, ctx_.parameters);
+  Trajectory t = stl::trajectory_of_inputs(system_, pieces, slot.parameters);
   if (shape_ == InputShape::linear) {
     LinearInput in;
     in.piece = dt_ / static_cast<double>(fine_per_piece_);
@@ -150,12 +151,14 @@ double signal_horizon(const System& system, double horizon_option) {
   return horizon_option > 0.0 ? horizon_option : system.info().requirement->formula.horizon();
 }
 
-void check_signal_system(const System& system, double horizon_option, InputShape shape) {
+void check_signal_system(const System& system, double horizon_option, InputShape shape, bool parameters) {
   const SystemInfo& info = system.info();
   if (!info.requirement)
     throw std::invalid_argument("the signal searches (optimisers, adaptive) minimise an STL requirement's robustness: "
                                 "--set requirement=... (hyfal list shows the suite's)");
-  if (info.input_names.empty()) throw std::invalid_argument(fmt::format("suite '{}' has no inputs to search", info.suite));
+  if (info.input_names.empty() && !(parameters && info.parameter_box.has_width()))
+    throw std::invalid_argument(fmt::format("suite '{}' has no inputs to search{}", info.suite,
+                                            info.parameter_box.has_width() ? " (its parameters P: rrft, the optimisers)" : ""));
   if (system.state_dependent_inputs())
     throw std::invalid_argument(fmt::format("suite '{}' admits inputs that depend on the state (its drivers): a control-point "
                                             "signal cannot respect them",

@@ -18,6 +18,13 @@
 // (stl::linear_signal_pieces: a model affine in u sees the exact mean over every step); its
 // witness carries the control points (Trajectory::linear_input), which the validator checks the
 // pieces against.
+//
+// The system's time-invariant parameters P (SystemInfo::parameter_box), where P has width, are
+// searched too, as RRFT searches them: each slot carries its own p, which the search writes beside
+// the signal (the optimisers: the first dimensions of the decision vector), and the witness
+// carries it (the validator checks p ∈ P). A system with no inputs (F16: the initial attitude is
+// P) is searched over P alone, with one piece of δt per simulation and no input in it. Elsewhere
+// (P a point) p is the instance's, as before.
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -57,6 +64,8 @@ struct SignalSlot {
   std::vector<stl::InputPiece> pieces;
   std::vector<double> start;
   std::vector<stl::InputPiece> fine;
+  // The parameters p this simulation runs at: the instance's unless the search writes them.
+  std::vector<double> parameters;
   // The last simulation (its trace stays in `simulator` until the next): its robustness, work,
   // end time, and whether it was cut short.
   double rho = 0.0;
@@ -75,6 +84,9 @@ class SignalSimulations {
   std::size_t pieces() const { return pieces_; }      // K
   double piece_duration() const { return dt_; }       // δt
   const Box& input_box() const;                       // U of the initial mode: every piece's bounds
+  // Whether the search writes each slot's parameters (P has width), and P.
+  bool searches_parameters() const { return parameter_box().has_width(); }
+  const Box& parameter_box() const { return system_.info().parameter_box; }
   // Slots 0..n-1 exist after this (slot 0 always does).
   void reserve(std::size_t n);
   SignalSlot& slot(std::size_t i) { return *slots_[i]; }
@@ -121,10 +133,11 @@ class SignalSimulations {
 };
 
 // What a signal search needs of a system (a method's check_system, and its solve()): an STL
-// requirement, inputs, a box that does not depend on the state, a finite signal length. Throws
+// requirement, inputs or parameters to search (`parameters`: the method searches P), a box that does not depend on the state, a finite signal length. Throws
 // std::invalid_argument naming what is missing.
 // A linear shape needs an instance that admits it (a held signal's instance 2 does not).
-void check_signal_system(const System& system, double horizon_option, InputShape shape = InputShape::constant);
+void check_signal_system(const System& system, double horizon_option, InputShape shape = InputShape::constant,
+                         bool parameters = true);
 // The signal's length: the option's, or the requirement's horizon (0: unset).
 double signal_horizon(const System& system, double horizon_option);
 

@@ -166,6 +166,7 @@ TrialResult compute_trial(const TrialJob& job, const EngineOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   TrialCpuClock cpu;  // this thread's CPU plus that of the planner's tasks on other threads
   try {
+    check_method_for_system(*job.method, *job.system);  // the CLI refuses such a pair before a run
     auto planner = job.method->make(job.method_options);
     const SystemInfo& info = job.system->info();
     std::optional<TreeRecorder> trees;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "results/experiment_report.hpp"
 #include "results/text_format.hpp"
@@ -70,7 +71,7 @@ LeagueRowVerdicts row_verdicts(const std::vector<LeagueCell>& row) {
   if (v.leader < 0) return v;
   const LeagueCell& best = row[static_cast<std::size_t>(v.leader)];
   for (std::size_t c = 0; c < row.size(); ++c) {
-    if (static_cast<std::ptrdiff_t>(c) == v.leader || !row[c].run) continue;
+    if (static_cast<std::ptrdiff_t>(c) == v.leader || !row[c].run || !row[c].not_applicable.empty()) continue;
     v.against_leader[c].simulations = compare_samples(row[c].observations, best.observations);
     v.against_leader[c].rate = compare_samples(row[c].falsified_indicators, best.falsified_indicators);
   }
@@ -84,6 +85,7 @@ std::string simulations_text(const SampleSummary& s) {
 // "k/n · mean (median)" simulations, or "k/n" without a falsifying run.
 std::string cell_text(const LeagueCell& cell) {
   if (!cell.run) return "not run";
+  if (!cell.not_applicable.empty()) return "n/a";
   std::string text = fmt::format("{}/{}", cell.falsified, cell.n);
   if (cell.falsified > 0) text += " · " + simulations_text(cell.simulations);
   return text;
@@ -138,6 +140,27 @@ std::string league_table(const LeagueReport& r) {
   return md;
 }
 
+// The cells that do not apply, and why (each reason once, with its cells).
+std::string not_applicable_lines(const LeagueReport& r) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> reasons;
+  for (std::size_t i = 0; i < r.league.rows.size(); ++i)
+    for (std::size_t c = 0; c < r.league.columns.size(); ++c) {
+      const LeagueCell& cell = r.cells[i][c];
+      if (!cell.run || cell.not_applicable.empty()) continue;
+      // The reason without its "method 'm' on suite 's': " prefix, so that a column's cells share it.
+      const std::string& why = cell.not_applicable;
+      const std::size_t colon = why.find("': ");
+      const std::string reason = colon == std::string::npos ? why : why.substr(colon + 3);
+      auto it = std::find_if(reasons.begin(), reasons.end(), [&](const auto& e) { return e.first == reason; });
+      if (it == reasons.end()) it = reasons.insert(reasons.end(), {reason, {}});
+      it->second.push_back(fmt::format("{} × {}", r.league.rows[i].label, r.league.columns[c].label));
+    }
+  if (reasons.empty()) return "";
+  std::string md = "\nn/a: the column's method cannot drive the row's suite (no runs, in no verdict):\n";
+  for (const auto& [reason, cells] : reasons) md += fmt::format("- {}: {}\n", fmt::join(cells, ", "), reason);
+  return md;
+}
+
 std::string statistics_table(const LeagueReport& r) {
   std::string md =
       "\n## Statistics\n\nPer cell: runs, falsified, validated witnesses, stopped by the budget / the time limit, "
@@ -152,7 +175,7 @@ std::string statistics_table(const LeagueReport& r) {
   for (std::size_t i = 0; i < r.league.rows.size(); ++i)
     for (std::size_t c = 0; c < r.league.columns.size(); ++c) {
       const LeagueCell& cell = r.cells[i][c];
-      if (!cell.run) continue;
+      if (!cell.run || !cell.not_applicable.empty()) continue;
       const SampleSummary& s = cell.simulations;
       md += markdown_row({markdown_cell(r.league.rows[i].label), markdown_cell(r.league.columns[c].label),
                           std::to_string(cell.n), std::to_string(cell.falsified), std::to_string(cell.validated),
@@ -201,6 +224,10 @@ std::string verdict_lines(const LeagueReport& r) {
         line.emplace_back("leader");
         continue;
       }
+      if (!r.cells[i][c].not_applicable.empty()) {
+        line.emplace_back("n/a");
+        continue;
+      }
       line.push_back(comparison_text(v.against_leader[c]));
     }
     md += markdown_row(line);
@@ -235,7 +262,8 @@ std::string near_threshold_section(const LeagueReport& r) {
   for (std::size_t i = 0; i < r.league.rows.size(); ++i) {
     if (r.cells[i].empty() || !r.cells[i].front().run || !(r.threshold_scale[i] > 0.0)) continue;
     md += fmt::format("| {} | {} |", r.league.rows[i].label, format_significant(0.01 * r.threshold_scale[i]));
-    for (const LeagueCell& cell : r.cells[i]) md += fmt::format(" {} of {} |", cell.near_threshold, cell.falsified);
+    for (const LeagueCell& cell : r.cells[i])
+      md += cell.not_applicable.empty() ? fmt::format(" {} of {} |", cell.near_threshold, cell.falsified) : " n/a |";
     md += "\n";
   }
   return md;
@@ -281,13 +309,16 @@ std::string p_or_empty(const SampleComparison& c) {
 }  // namespace
 
 LeagueReport make_league_report(const PaperTable& table, const std::vector<std::vector<std::vector<TrialRecord>>>& trials,
-                                const std::vector<bool>& run, const std::vector<double>& threshold_scale) {
+                                const std::vector<bool>& run, const std::vector<double>& threshold_scale,
+                                const std::vector<std::vector<std::string>>& not_applicable) {
   if (!table.league) throw std::invalid_argument("make_league_report: the table is not a league");
   const TableLeague& l = *table.league;
   if (trials.size() != l.rows.size() || run.size() != l.rows.size())
     throw std::invalid_argument("make_league_report: one list of cells per row expected");
   if (!threshold_scale.empty() && threshold_scale.size() != l.rows.size())
     throw std::invalid_argument("make_league_report: one threshold scale per row expected");
+  if (!not_applicable.empty() && not_applicable.size() != l.rows.size())
+    throw std::invalid_argument("make_league_report: one list of reasons per row expected");
   LeagueReport r{table.id, table.title, table.source, table.notes, l, {}, {}, {}};
   r.threshold_scale = threshold_scale.empty() ? std::vector<double>(l.rows.size(), 0.0) : threshold_scale;
   for (std::size_t i = 0; i < l.rows.size(); ++i) {
@@ -295,7 +326,14 @@ LeagueReport make_league_report(const PaperTable& table, const std::vector<std::
       throw std::invalid_argument("make_league_report: one cell per column expected");
     std::vector<LeagueCell> row(l.columns.size());
     if (run[i])
-      for (std::size_t c = 0; c < l.columns.size(); ++c) row[c] = make_cell(trials[i][c], r.threshold_scale[i]);
+      for (std::size_t c = 0; c < l.columns.size(); ++c) {
+        row[c] = make_cell(trials[i][c], r.threshold_scale[i]);
+        if (!not_applicable.empty()) {
+          if (not_applicable[i].size() != l.columns.size())
+            throw std::invalid_argument("make_league_report: one reason per column expected");
+          row[c].not_applicable = not_applicable[i][c];
+        }
+      }
     r.verdicts.push_back(row_verdicts(row));
     r.cells.push_back(std::move(row));
   }
@@ -303,7 +341,7 @@ LeagueReport make_league_report(const PaperTable& table, const std::vector<std::
 }
 
 std::string to_markdown(const LeagueReport& r, const ReportHeader& header) {
-  return header_text(r, header) + league_table(r) + verdict_lines(r) + near_threshold_section(r) + published_section(r) +
+  return header_text(r, header) + league_table(r) + not_applicable_lines(r) + verdict_lines(r) + near_threshold_section(r) + published_section(r) +
          statistics_table(r);
 }
 
@@ -318,6 +356,7 @@ std::string to_csv(const LeagueReport& r, const ReportHeader& header) {
     const LeagueRowVerdicts& v = r.verdicts[i];
     for (std::size_t c = 0; c < r.league.columns.size(); ++c) {
       const LeagueCell& cell = r.cells[i][c];
+      if (!cell.not_applicable.empty()) continue;  // no runs: no line
       const SampleSummary& s = cell.simulations;
       const bool leader = static_cast<std::ptrdiff_t>(c) == v.leader;
       const LeagueComparison& cmp = v.against_leader[c];

@@ -18,6 +18,9 @@ namespace hyfal {
 
 struct LeagueCell {
   bool run = false;  // the profile ran this row
+  // Why the column's method cannot drive the row's suite (e.g. a search over input signals on a
+  // suite with none): the cell does not apply ("n/a"), has no runs and is in no verdict. Empty: it applies.
+  std::string not_applicable;
   std::size_t n = 0, falsified = 0, validated = 0, budget_stops = 0, timeouts = 0, not_found = 0, errors = 0;
   SampleSummary simulations;  // of the falsified runs
   SampleSummary nodes;        // of the falsified runs (a tree's nodes; an optimiser's evaluations)
@@ -52,9 +55,11 @@ struct LeagueReport {
 
 // trials[row][column]: the trials of that cell; `run[row]` whether the profile ran the row;
 // threshold_scale[row] (optional: empty, or one per row) the scale its witnesses are measured
-// against. Throws std::invalid_argument when the shape does not match the league.
+// against; not_applicable[row][column] (optional: empty, or one per cell) why a cell does not apply
+// (empty: it does). Throws std::invalid_argument when the shape does not match the league.
 LeagueReport make_league_report(const PaperTable& table, const std::vector<std::vector<std::vector<TrialRecord>>>& trials,
-                                const std::vector<bool>& run, const std::vector<double>& threshold_scale = {});
+                                const std::vector<bool>& run, const std::vector<double>& threshold_scale = {},
+                                const std::vector<std::vector<std::string>>& not_applicable = {});
 
 // Markdown: the header, the league (rows x columns, "k/n · mean (median)" simulations), the
 // statistics of every cell, the verdicts per row, and the published tools beside ours where they

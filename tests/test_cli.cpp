@@ -1205,6 +1205,23 @@ TEST_F(CliTest, ForeignDatabasesAreRefusedAndLeftUnchanged) {
   EXPECT_EQ(snapshot(work()), before);
 }
 
+// F16 has no inputs: only the methods that search its parameters (the initial attitude) run on it;
+// another is refused in one line naming them, exit 2, nothing written.
+TEST_F(CliTest, AMethodThatSearchesOnlyInputsIsRefusedOnASuiteWithout) {
+  const auto before = snapshot(work());
+  const Result r = hyfal({"run", "--suite", "f16", "--method", "rrt", "--trials", "1", "--db", "f.sqlite"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r;
+  EXPECT_TRUE(contains(r.err, "method 'rrt' on suite 'f16'")) << r;
+  EXPECT_TRUE(contains(r.err, "roll, pitch, yaw")) << r;
+  EXPECT_TRUE(contains(r.err, "use rrft, random, annealing, cmaes, nelder-mead")) << r;
+  EXPECT_EQ(snapshot(work()), before);
+  const Result ok = hyfal({"run", "--suite", "f16", "--set", "requirement=F16", "--set", "altitude=2338", "--method",
+                           "nelder-mead", "--trials", "1", "--threads", "1", "--db", "f.sqlite", "--witness-dir", "wit"});
+  EXPECT_EQ(ok.code, 0) << ok;
+  EXPECT_TRUE(contains(ok.out, "1 witnesses validated")) << ok;
+}
+
 TEST_F(CliTest, TableReadsADatabaseInAReadOnlyFolder) {
   const fs::path folder = work() / "ro";
   fs::create_directories(folder);

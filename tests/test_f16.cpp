@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/options.hpp"
+#include "core/planner.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/simulate.hpp"
 #include "core/trajectory.hpp"
@@ -254,6 +255,75 @@ TEST(F16, AFalsifyingRunAt2338FtValidatesAsAWitness) {
   std::printf("F16 at 2338 ft: robustness %.4f ft; witness: %s (max state error %.3g, robustness %.4f)\n", rho,
               report.reason.c_str(), report.max_state_error, report.robustness.value_or(NAN));
   EXPECT_TRUE(report.valid) << report.reason;
+}
+
+// The search is over the initial attitude, P (the suite's header): mode start sets it from p at
+// t = 0. A run at p equals a run whose instance holds the same attitude (the replays above), and
+// the signals show p's attitude from the first sample on.
+TEST(F16, TheParametersSetTheInitialAttitude) {
+  const auto nominal = make_f16({{"altitude", "2338"}});
+  const auto corner = make_f16({{"altitude", "2338"}, {"roll", "0.89011791851710798"}, {"yaw", "-1.1780972450961724"}});
+  const SystemInfo& info = nominal->info();
+  ASSERT_EQ(info.parameter_names, (std::vector<std::string>{"roll", "pitch", "yaw"}));
+  EXPECT_TRUE(info.parameter_box.has_width());
+  EXPECT_TRUE(info.parameter_box.contains(info.parameters));
+  EXPECT_TRUE(info.parameter_box.contains(corner->info().parameters));
+  const std::vector<stl::InputPiece> pieces = {{15.0, {}}};
+  const std::vector<double> p = corner->info().parameters;
+  const stl::SimulatedTrace a = stl::simulate_inputs(*nominal, pieces, p);
+  const stl::SimulatedTrace b = stl::simulate_inputs(*corner, pieces, p);
+  ASSERT_EQ(a.time.size(), b.time.size());
+  for (std::size_t s = 0; s < a.signals.size(); ++s) EXPECT_EQ(a.signals[s], b.signals[s]) << s;
+  const std::size_t roll = 3, gcas = 6;  // outputs: altitude, speed, alpha, roll, pitch, yaw, gcas
+  EXPECT_EQ(a.signals[roll].front(), p[0]);
+  EXPECT_EQ(a.signals[gcas].front(), 1.0);  // roll, as the reference's mode_id
+  const stl::SimulatedTrace at_nominal = stl::simulate_inputs(*nominal, pieces, info.parameters);
+  EXPECT_NE(at_nominal.signals[0].back(), a.signals[0].back());  // another attitude, another flight
+}
+
+// Which methods run on a suite whose only freedom is P: those that search P (rrft and the
+// optimisers); the others are refused with one line before a run.
+TEST(F16, OnlyMethodsThatSearchParametersRunOnIt) {
+  const auto sys = make_f16({{"requirement", "F16"}});
+  for (const char* m : {"random", "annealing", "cmaes", "nelder-mead", "rrft"})
+    EXPECT_NO_THROW(check_method_for_system(*find_method(m), *sys)) << m;
+  for (const char* m : {"rrt", "rrt-dstar", "enhanced-rrt", "hydice", "adaptive", "adaptive-local"}) {
+    try {
+      check_method_for_system(*find_method(m), *sys);
+      ADD_FAILURE() << m << " was not refused";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("roll, pitch, yaw"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// CMA-ES over P at 2338 ft reaches the falsifying corner (phi high, theta low) and its witness
+// validates with p inside the ARCH box; at 4040 ft (nothing in the box falsifies: lowest altitude
+// about 1703 ft) the same budget ends with a positive robustness.
+TEST(F16, CmaesFindsTheFalsifyingAttitudeAt2338Ft) {
+  const MethodEntry* cmaes = find_method("cmaes");
+  Json options = resolve_options(cmaes->options, {{"budget", "300"}});
+  for (const char* altitude : {"2338", "4040"}) {
+    const auto sys = make_f16({{"altitude", altitude}, {"requirement", "F16"}});
+    const PlannerOutcome o = cmaes->make(options)->solve({*sys, sys->info().parameters, 7, {60.0, 1000000}});
+    const double rho = o.metrics.at("robustness").get<double>();
+    std::printf("F16 at %s ft, cmaes: %s after %lld simulations, robustness %.4f\n", altitude,
+                std::string(to_string(o.status)).c_str(), static_cast<long long>(o.counters.nodes), rho);
+    if (std::string(altitude) == "4040") {
+      EXPECT_EQ(o.status, TrialStatus::node_cap);
+      EXPECT_GT(rho, 1500.0);
+      continue;
+    }
+    ASSERT_EQ(o.status, TrialStatus::falsified);
+    ASSERT_TRUE(o.trajectory);
+    const std::vector<double>& p = o.trajectory->parameters;
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_TRUE(sys->info().parameter_box.contains(p));
+    EXPECT_GT(p[0], 0.85);   // roll near its high end, pi/4 + pi/30 = 0.890
+    EXPECT_LT(p[1], -1.24);  // pitch near its low end, -0.4 pi = -1.257
+    const ValidationReport v = validate_witness(*sys, make_witness(*sys, "cmaes", 0, *o.trajectory));
+    EXPECT_TRUE(v.valid) << v.reason;
+  }
 }
 
 }  // namespace

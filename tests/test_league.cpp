@@ -31,8 +31,10 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   ASSERT_NE(t, nullptr);
   ASSERT_TRUE(t->league.has_value());
   const TableLeague& l = *t->league;
-  EXPECT_EQ(l.rows.size(), 35u);
-  EXPECT_EQ(l.columns.size(), 9u);
+  EXPECT_EQ(l.rows.size(), 37u);
+  EXPECT_EQ(l.columns.size(), 10u);
+  EXPECT_EQ(l.columns[9].method, "rrft");
+  EXPECT_EQ(l.rows.back().suite, "f16");
   EXPECT_EQ(l.columns[6].method, "adaptive");
   EXPECT_EQ(l.columns[7].method, "adaptive-local");
   EXPECT_EQ(setting(l.columns[8].settings, "input_refinement"), "2");
@@ -42,9 +44,9 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   EXPECT_EQ(setting(l.rows[16].settings, "input_instance"), "2");
   EXPECT_EQ(l.columns.front().method, "rrt");
   EXPECT_EQ(setting(l.columns.front().settings, "robustness_bias"), "0.5");
-  EXPECT_EQ(l.published.size(), 4u);
+  EXPECT_EQ(l.published.size(), 5u);
   EXPECT_EQ(t->quick.trials, 10);
-  EXPECT_EQ(t->quick.row_labels.size(), 26u);
+  EXPECT_EQ(t->quick.row_labels.size(), 28u);
   EXPECT_EQ(setting(t->quick.settings, "budget"), "1500");
   ASSERT_TRUE(t->full && t->published);
   EXPECT_EQ(t->full->trials, 50);
@@ -56,12 +58,13 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   EXPECT_EQ(t->published->column_settings.front().first, "adaptive (FalStar)");
   EXPECT_EQ(setting(t->published->column_settings.front().second, "step"), "1");
   EXPECT_TRUE(t->quick.column_settings.empty());
-  // Every published cell names a row the published profile runs, so the comparison is shown.
+  // Every published cell names a row the published or the quick profile runs, so the comparison is shown.
+  const auto runs = [](const TableProfile& p, const std::string& row) {
+    return std::find(p.row_labels.begin(), p.row_labels.end(), row) != p.row_labels.end();
+  };
   for (const PublishedTool& tool : l.published)
     for (const PublishedCell& c : tool.cells)
-      EXPECT_NE(std::find(t->published->row_labels.begin(), t->published->row_labels.end(), c.row),
-                t->published->row_labels.end())
-          << tool.label << " " << c.row;
+      EXPECT_TRUE(runs(*t->published, c.row) || runs(t->quick, c.row)) << tool.label << " " << c.row;
 }
 
 const char* const kLeague = R"(id = "tiny-league"
@@ -216,6 +219,34 @@ TEST(LeagueReport, TheLeaderFalsifiesMostAndTheOthersAreTestedOnCensoredSimulati
   const std::string mdn = to_markdown(rn, h);
   EXPECT_NE(mdn.find("| A | 1.00 | 0 of 0 | 2 of 3 |"), std::string::npos) << mdn;
   EXPECT_NE(to_csv(rn, h).find(",2\r\n"), std::string::npos);
+}
+
+// A cell whose method cannot drive the row's suite (a search over input signals on F16, which has
+// none) does not apply: "n/a" in the league and the verdicts, no line in the CSV and the statistics,
+// never the leader, and its reason listed once for its cells.
+TEST(LeagueReport, ACellThatDoesNotApplyIsShownAsSuchAndJudgedNowhere) {
+  PaperTable t = load_paper_table(kLeague, "tiny.toml");
+  std::vector<std::vector<std::vector<TrialRecord>>> trials(2, std::vector<std::vector<TrialRecord>>(2));
+  for (const double s : {2.0, 3.0}) trials[0][1].push_back(run_of(TrialStatus::falsified, s));
+  const std::vector<std::vector<std::string>> why = {
+      {"method 'rrt' on suite 'thermostat': suite 'thermostat' has no inputs, and this method does not search its "
+       "parameters P (p); use random",
+       ""},
+      {"", ""}};
+  const LeagueReport r = make_league_report(t, trials, {true, false}, {}, why);
+  EXPECT_EQ(r.verdicts[0].leader, 1);
+  EXPECT_FALSE(r.cells[0][0].not_applicable.empty());
+  ReportHeader h;
+  h.profile = "smoke";
+  const std::string md = to_markdown(r, h);
+  EXPECT_NE(md.find("| A | thermostat | n/a | **2/2 · 2.50 (2.50)** |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| A | random | n/a | leader |"), std::string::npos) << md;
+  EXPECT_NE(md.find("- A × tree: suite 'thermostat' has no inputs, and this method does not search"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| A | tree | 0 |"), std::string::npos) << "no statistics line for it";
+  const std::string csv = to_csv(r, h);
+  EXPECT_EQ(csv.find(",A,thermostat,tree,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",A,thermostat,random,"), std::string::npos) << csv;
+  EXPECT_THROW(make_league_report(t, trials, {true, false}, {}, {{"", ""}}), std::invalid_argument);
 }
 
 // A tree given a budget stops once its simulated time reaches budget x the requirement's horizon

@@ -49,13 +49,24 @@
 // beta = p = q = r = pn = pe = 0, pow = 9, the integrators 0; roll, pitch, yaw = the ARCH nominal
 // π/4, -0.4π, -π/4 (the ARCH box: roll π/4 + [-π/20, π/30], pitch -0.4π + [0, π/20], yaw -π/4 ± π/8).
 // horizon 15 s (invariant t <= horizon).
+// The search (ARCH-COMP's F16 instance): over the initial attitude, the parameters P = (roll,
+// pitch, yaw) in the ARCH box above (SystemInfo::parameter_box; p = the instance's roll, pitch,
+// yaw where nothing searches P: `hyfal simulate`). P enters at t = 0: the run starts in mode
+// `start`, whose guard (the tick guard, c = T) fires at once and whose jump sets phi, theta, psi
+// to p and enters roll, whose own tick then fires at t = 0 as before. The outputs in `start` are
+// p's attitude and gcas = 1 (roll), so the signals show no trace of the extra mode; the states of
+// the trajectory's first sample hold the instance's attitude until that jump. Why a jump and not
+// an initial state that depends on p: every method, the witness and the validator already carry
+// p and replay jumps (a core hook for p-dependent initial states would touch every planner). The
+// methods that search P run here (rrft; random, annealing, cmaes, nelder-mead); the others, which
+// search input signals only, are refused (check_method_for_system).
 // Requirement F16 = always[0,15] (altitude > 0); reachability spec s = h (unsafe when h <= 0).
 // Outputs: altitude, speed, alpha, roll, pitch, yaw and gcas (the mode id, as the reference's
 // mode_id). No inputs: `hyfal simulate --suite f16 --input F` takes a CSV of times only
 // ("time", "0", "15": one piece of 15 s); a piece flows through the ticks (held_inputs).
-// For the tree methods (step 1 does not tune them): δt = horizon (one piece may cover a run), a
-// sampling box and metric over the flight states (the clocks unweighted), RRFT's coverage grid over
-// (altitude, airspeed) in 50-unit cells; OMPL's control planners refuse a suite without inputs.
+// For RRFT: δt = horizon (one piece may cover a run), a sampling box and metric over the flight
+// states (the clocks unweighted), a coverage grid over (altitude, airspeed) in 50-unit cells; its
+// seeds are points of P (Halton), each tree one run from its attitude.
 //
 // Where the sources disagree (model.md §0, §3.3, §5, §7, §8), the choice and why:
 //  - Morelli vs the Stevens tables: Morelli, the v2 Python's default, which the GCAS example does
@@ -121,14 +132,14 @@ double wrapped(double a) { return a - kTwoPi * std::nearbyint(a / kTwoPi); }
 
 class F16Gcas {
  public:
-  enum GcasMode : Mode { kStandby = 0, kRoll = 1, kPull = 2 };
+  enum GcasMode : Mode { kStandby = 0, kRoll = 1, kPull = 2, kStart = 3 };
   static constexpr int kTime = 16, kClock = 17, kPullClock = 18, kDim = 19;
   static constexpr bool guards_affine = true;  // c - (T - lead)
 
   explicit F16Gcas(double horizon) : horizon_(horizon), inputs_{Box{{}, {}}, {}} {}
 
   int dim() const { return kDim; }
-  bool valid_mode(Mode q) const { return q <= kPull; }
+  bool valid_mode(Mode q) const { return q <= kStart; }
   void flow(Mode q, const double* x, const double*, const double*, double* dx) const {
     double u_ref[4] = {0.0, 0.0, 0.0, 0.0};
     if (q == kRoll)
@@ -143,7 +154,13 @@ class F16Gcas {
   int guard_count(Mode) const { return 1; }
   double guard(Mode, int, const double* x, const double*) const { return x[kClock] - (kTick - kTickLead); }
   static bool nose_high(const double* x) { return wrapped(x[f16::kTheta] - x[f16::kAlpha]) > kPathGoal; }
-  Mode jump(Mode q, int, double* x, const double*) const {
+  Mode jump(Mode q, int, double* x, const double* p) const {
+    if (q == kStart) {  // t = 0: the attitude p, then roll's tick at t = 0 (c stays T)
+      x[f16::kPhi] = p[0];
+      x[f16::kTheta] = p[1];
+      x[f16::kPsi] = p[2];
+      return kRoll;
+    }
     x[kClock] -= kTick;
     switch (q) {
       case kStandby:
@@ -162,17 +179,18 @@ class F16Gcas {
   double spec(Mode, const double* x, const double*) const { return x[f16::kH]; }
   bool outside_unsafe(Mode, const double* x, const double*) const { return x[f16::kH] > 0.0; }
   const InputSet& inputs(Mode) const { return inputs_; }
-  void outputs(Mode q, const double* x, const double*, const double*, double* y) const {
+  void outputs(Mode q, const double* x, const double*, const double* p, double* y) const {
+    const bool start = q == kStart;  // the attitude is p's from t = 0 on, the autopilot in roll
     y[0] = x[f16::kH];
     y[1] = x[f16::kVt];
     y[2] = x[f16::kAlpha];
-    y[3] = x[f16::kPhi];
-    y[4] = x[f16::kTheta];
-    y[5] = x[f16::kPsi];
-    y[6] = static_cast<double>(q);
+    y[3] = start ? p[0] : x[f16::kPhi];
+    y[4] = start ? p[1] : x[f16::kTheta];
+    y[5] = start ? p[2] : x[f16::kPsi];
+    y[6] = static_cast<double>(start ? kRoll : q);
   }
   std::string mode_name(Mode q) const {
-    static constexpr const char* kNames[3] = {"standby", "roll", "pull"};
+    static constexpr const char* kNames[4] = {"standby", "roll", "pull", "start"};
     return kNames[q];
   }
 
@@ -204,10 +222,14 @@ std::shared_ptr<const System> make_f16(const Json& instance) {
                   {"pitch", "rad", "pitch angle theta"}, {"yaw", "rad", "yaw angle psi"},
                   {"gcas", "", "autopilot mode: 0 standby, 1 roll, 2 pull"}};
   info.requirements = {{"F16", "always[0,15] (altitude > 0)", "the GCAS keeps the aircraft above the ground for 15 s"}};
-  info.initial_mode = F16Gcas::kRoll;
+  // The search is over the initial attitude, P (header): mode start sets it from p at t = 0.
+  constexpr double pi = std::numbers::pi;
+  info.parameter_names = {"roll", "pitch", "yaw"};
+  info.parameter_box = {{pi / 4 - pi / 20, -0.4 * pi, -pi / 4 - pi / 8}, {pi / 4 + pi / 30, -0.4 * pi + pi / 20, -pi / 4 + pi / 8}};
+  info.parameters = {roll, pitch, yaw};
+  info.initial_mode = F16Gcas::kStart;
   info.initial_state = {speed, 2.1215 * kDeg, 0.0, roll,  pitch, yaw, 0.0, 0.0, 0.0, 0.0,
                         0.0,   altitude,      9.0, 0.0,   0.0,   0.0, 0.0, kTick, 0.0};
-  constexpr double pi = std::numbers::pi;
   info.sampling_box = {{300.0, -0.5, -0.5, -pi, -pi / 2, -pi, -3.0, -3.0, -3.0, -20000.0, -20000.0, -1000.0, 0.0, -50.0,
                         -10.0, -10.0, 0.0, 0.0, 0.0},
                        {1000.0, 0.8, 0.5, pi, pi / 2, pi, 3.0, 3.0, 3.0, 20000.0, 20000.0, altitude + 1000.0, 100.0, 50.0,
@@ -237,13 +259,14 @@ SuiteEntry f16_suite() {
   constexpr double pi = std::numbers::pi;
   return {"f16",
           "ARCH-COMP F-16 ground collision avoidance (AeroBench v2: Morelli plant, LQR inner loop, GCAS roll/pull "
-          "at 1/30 s ticks); no inputs, the initial attitude is the instance",
+          "at 1/30 s ticks); no inputs: the search is over the initial attitude (parameters roll, pitch, yaw in the "
+          "ARCH box)",
           {{"altitude", 4040.0, "initial altitude h, ft (ARCH-COMP 2019/2020: 4040; 2024: 2338)", "(0, 100000]"},
            {"speed", 540.0, "initial true airspeed vt, ft/s", "(0, 3000]"},
-           {"roll", pi / 4, "initial roll phi, rad (ARCH box pi/4 + [-pi/20, pi/30])", "[-10, 10]"},
-           {"pitch", -0.4 * pi, "initial pitch theta, rad (ARCH box -0.4pi + [0, pi/20]); |pitch| < pi/2",
+           {"roll", pi / 4, "initial roll phi, rad, where P is not searched (P: the ARCH box pi/4 + [-pi/20, pi/30])", "[-10, 10]"},
+           {"pitch", -0.4 * pi, "initial pitch theta, rad, where P is not searched (P: -0.4pi + [0, pi/20]); |pitch| < pi/2",
             "[-1.57, 1.57]"},
-           {"yaw", -pi / 4, "initial yaw psi, rad (ARCH box -pi/4 + [-pi/8, pi/8])", "[-10, 10]"},
+           {"yaw", -pi / 4, "initial yaw psi, rad, where P is not searched (P: -pi/4 + [-pi/8, pi/8])", "[-10, 10]"},
            {"horizon", 15.0, "time horizon in seconds (invariant t <= horizon)", "(0, 1000]"}},
           make_f16};
 }

@@ -44,14 +44,16 @@
 //    actions is alive ends without a simulation (FalStar's Result.empty). Simulations (the
 //    counters, the league's count) are the passes that simulated. When the root itself has no
 //    live action left, the search has tried everything it may: not_found.
-//  - Inputs are piecewise constant (FalStar's `constant` inputs, fixed after their first
-//    choice, have no counterpart in the suites), or, with `input_shape = linear` (ours, for
+//  - Inputs are piecewise constant, or, with `input_shape = linear` (ours, for
 //    ARCH-COMP instance 1), linear between the segments' ends: an action's value is the signal's
 //    at its segment's end (the first segment holds its value from 0), so that the signal up to a
 //    node's time is fixed by the path to it and the prefix bound prunes as soundly as before.
 //  - The robustness a child is ranked by (prefix move) is its prefix interval's upper bound, and a
 //    subtree's (suffix move) the lowest whole-simulation robustness through it, both as FalStar
 //    sets them; a refused candidate counts with the validator's robustness (signal_search.hpp).
+//  - The system's parameters P (SystemInfo::parameter_box) are not searched: every simulation
+//    runs at the instance's p (FalStar's `constant` inputs, fixed after their first choice, would
+//    be their counterpart; not built). A system with no inputs is refused.
 //  - Random draws: one mt19937_64 stream from the trial seed, in a fixed order: the same result
 //    at any thread count.
 //
@@ -153,7 +155,7 @@ class AdaptiveSearch final : public Planner {
   explicit AdaptiveSearch(AdaptiveOptions o) : o_(std::move(o)) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    check_signal_system(ctx.system, o_.horizon, o_.shape);
+    check_signal_system(ctx.system, o_.horizon, o_.shape, /*parameters=*/false);
     SignalSimulations sims(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon), o_.shape);
     Pass pass(o_, sims, signal_horizon(ctx.system, o_.horizon), ctx.seed);
     TrialStatus status = TrialStatus::node_cap;
@@ -529,7 +531,7 @@ class AdaptiveSearch final : public Planner {
 
 void check_adaptive_system(const System& system, const Json& options) {
   const AdaptiveOptions o = read_options(options);
-  check_signal_system(system, o.horizon, o.shape);
+  check_signal_system(system, o.horizon, o.shape, /*parameters=*/false);
 }
 
 std::vector<OptionSpec> adaptive_options() {

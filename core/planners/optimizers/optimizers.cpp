@@ -16,7 +16,8 @@
 // requirement's (its formula's) unless the option `horizon` says otherwise. The decision vector
 // is (u_1 of piece 1, ..., u_m of piece 1, u_1 of piece 2, ...), bounded by the input box U_q of
 // the initial mode; with `input_shape = linear` it is the K + 1 control points of a signal linear
-// between multiples of δt (u at 0, then u at the end of each piece: core/signal_search.hpp). A
+// between multiples of δt (u at 0, then u at the end of each piece: core/signal_search.hpp); where
+// the system's parameters P have width, the vector begins with p (bounded by P). A
 // simulation is stl::simulate_inputs (core/requirements/simulate.hpp), sampled
 // as the tree searches sample; its robustness stl::trace_robustness. Seeds: from the trial seed
 // (pagmo's and the restarts' streams), evaluations in sequence: the same result at any thread
@@ -61,6 +62,11 @@ class RobustnessObjective {
  public:
   RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon, InputShape shape)
       : ctx_(ctx), simulations_(ctx, budget, horizon, shape) {
+    if (simulations_.searches_parameters()) {
+      const Box& P = simulations_.parameter_box();
+      lo_ = P.lo;
+      hi_ = P.hi;
+    }
     const Box& box = simulations_.input_box();
     const std::size_t points = simulations_.pieces() + (shape == InputShape::linear ? 1 : 0);
     for (std::size_t k = 0; k < points; ++k) {
@@ -103,14 +109,15 @@ class RobustnessObjective {
   // What an optimiser sees: a finite number (a library may choke on an infinite one).
   static double value(double rho) { return std::isfinite(rho) ? rho : std::numeric_limits<double>::max(); }
 
-  // The signal x encodes, into the slot (linear: x's first control point is the start's).
+  // The parameters and the signal x encodes, into the slot (linear: x's first control point is the
+  // start's).
   void set_signal(const std::vector<double>& x, SignalSlot& slot) const {
-    const std::size_t m = slot.pieces.front().u.size();
     std::size_t at = 0;
     const auto take = [&](std::vector<double>& u) {
-      for (std::size_t j = 0; j < m; ++j, ++at)  // clamped: a library may step a hair outside its bounds
+      for (std::size_t j = 0; j < u.size(); ++j, ++at)  // clamped: a library may step a hair outside its bounds
         u[j] = std::clamp(x[at], lo_[at], hi_[at]);
     };
+    if (simulations_.searches_parameters()) take(slot.parameters);
     if (simulations_.shape() == InputShape::linear) take(slot.start);
     for (auto& piece : slot.pieces) take(piece.u);
   }
@@ -258,7 +265,7 @@ MethodEntry optimizer_method(std::string name, std::string description, Optimize
                                  o.contains("batch") ? o.at("batch").get<std::size_t>() : 1,
                                  input_shape_of(o.at("input_shape").get<std::string>())});
           },
-          check_optimizer_system, true};
+          check_optimizer_system, true, /*searches_parameters=*/true};
 }
 
 }  // namespace

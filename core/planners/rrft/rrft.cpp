@@ -133,6 +133,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <mutex>
 #include <functional>
 #include <optional>
@@ -168,6 +169,7 @@ struct RrftOptions {
   bool shift;
   int series_every;
   std::size_t batch;
+  std::int64_t budget = 0;  // simulation-equivalents (simulated time / the requirement's horizon); 0: no cap
 };
 
 RrftOptions parse_options(const Json& o) {
@@ -182,6 +184,7 @@ RrftOptions parse_options(const Json& o) {
   r.shift = o.at("shift").get<bool>();
   r.series_every = o.at("series_every").get<int>();
   r.batch = o.at("batch").get<std::size_t>();
+  r.budget = o.at("budget").get<std::int64_t>();
   return r;
 }
 
@@ -269,10 +272,16 @@ struct ForestTree {
 };
 
 // g(T) and D(T) (seed 003 eq. 3) are measured on the suite's coverage grid.
-void check_rrft_system(const System& sys, const Json&) {
+void check_rrft_system(const System& sys, const Json& options) {
   if (!(sys.info().coverage.spacing > 0.0))
     throw std::invalid_argument(fmt::format("suite '{}' defines no coverage grid, which RRFT needs for c(T), g(T)",
                                             sys.info().suite));
+  if (options.contains("budget") && options.at("budget").get<std::int64_t>() > 0) {
+    const auto& requirement = sys.info().requirement;
+    if (!requirement || !(std::isfinite(requirement->formula.horizon()) && requirement->formula.horizon() > 0.0))
+      throw std::invalid_argument("budget > 0 needs an STL requirement of finite, positive horizon (simulations are "
+                                  "simulated time / the horizon): --set requirement=...");
+  }
 }
 
 // One RRFT trial: the forest, its rounds and barriers. Rrft::solve builds one and runs it.
@@ -285,7 +294,9 @@ class ForestSearch {
         info_(sys_.info()),
         metric_(info_.metric_weights),
         budget_(ctx),
-        searched_(has_width(info_.parameter_box)),
+        time_cap_(o.budget > 0 ? static_cast<double>(o.budget) * info_.requirement->formula.horizon()
+                               : std::numeric_limits<double>::infinity()),
+        searched_(info_.parameter_box.has_width()),
         halton_(info_.parameter_box, halton_shift(o, ctx)),
         max_active_(searched_ ? static_cast<std::size_t>(o.n_t) : 1),
         max_seeds_(searched_ ? static_cast<std::size_t>(o.max_seeds) : 1),
@@ -305,12 +316,6 @@ class ForestSearch {
   }
 
  private:
-  // Does P have an axis of non-zero width? Else there is nothing to search: one tree, µ = 0.
-  static bool has_width(const Box& P) {
-    bool searched = false;
-    for (std::size_t k = 0; k < P.dim(); ++k) searched = searched || P.hi[k] > P.lo[k];
-    return searched;
-  }
   // The Cranley–Patterson shift of the Halton sequence (`shift`), from the trial seed.
   static std::vector<double> halton_shift(const RrftOptions& o, const PlannerContext& ctx) {
     const Box& P = ctx.system.info().parameter_box;
@@ -444,6 +449,10 @@ class ForestSearch {
     }
     if (auto why = budget_.exhausted(total_.nodes)) {
       out_.status = *why;
+      return true;
+    }
+    if (total_.simulated_time >= time_cap_) {  // the simulation budget, checked at the barrier
+      out_.status = TrialStatus::node_cap;
       return true;
     }
     return false;
@@ -753,6 +762,7 @@ class ForestSearch {
   const SystemInfo& info_;
   const WeightedEuclidean metric_;
   const SearchBudget budget_;
+  const double time_cap_;  // simulated time the budget allows (infinite: no budget)
   const bool searched_;
   HaltonSequence halton_;
   const std::size_t max_active_, max_seeds_;
@@ -779,7 +789,7 @@ class Rrft final : public Planner {
   explicit Rrft(RrftOptions o) : o_(o) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    check_rrft_system(ctx.system, Json());
+    check_rrft_system(ctx.system, Json::object());
     return ForestSearch(o_, ctx).run();
   }
 
@@ -802,9 +812,13 @@ MethodEntry rrft_method() {
            {"max_seeds", 64, "at most this many seeds (trees) per trial", "[1, 4096]"},
            {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
            {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"},
-           batch_option()},
+           batch_option(),
+           {"budget", 0,
+            "STL requirements: simulation-equivalents per run (simulated time / the requirement's horizon), checked "
+            "at each round's barrier, then the run stops as node_cap; 0 = no cap (ARCH-COMP: 1500)",
+            "[0, 100000000]", 0}},
           [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
-          check_rrft_system};
+          check_rrft_system, false, /*searches_parameters=*/true};
 }
 
 }  // namespace hyfal
