@@ -46,6 +46,7 @@ const std::vector<SuiteEntry>& all_suites() {
         at_suite(),
         cc_suite(),
         f16_suite(),
+        afc_suite(),
     };
     for (auto& s : all) s = with_requirement_parameter(std::move(s));
     return all;

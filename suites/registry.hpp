@@ -18,6 +18,7 @@ SuiteEntry aircraft_suite();
 SuiteEntry at_suite();
 SuiteEntry cc_suite();
 SuiteEntry f16_suite();
+SuiteEntry afc_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 // A resolved instance as its key: the parameters at their unkeyed value (OptionSpec::unkeyed_value:

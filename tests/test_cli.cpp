@@ -1222,6 +1222,16 @@ TEST_F(CliTest, AMethodThatSearchesOnlyInputsIsRefusedOnASuiteWithout) {
   EXPECT_TRUE(contains(ok.out, "1 witnesses validated")) << ok;
 }
 
+// `hyfal simulate` on AFC: the pedal under its ARCH name, the engine speed (a parameter) by --set;
+// the AFC29-like input of the notes falsifies AFC29 (the Simulink-Coder export: max |mu| 0.007872).
+TEST_F(CliTest, SimulateRunsTheAfcModel) {
+  write_text(work() / "in.csv", "time,throttle\n0,5\n5,50\n10,10\n15,45\n20,3\n25,60\n30,20\n35,0\n40,55\n45,8\n50,8\n");
+  const Result r = hyfal({"simulate", "--suite", "afc", "--set", "engine=950", "--set", "requirement=AFC29", "--input", "in.csv"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(contains(r.out, "| AFC29 | -0.00087")) << r;  // -0.000879956
+  EXPECT_TRUE(contains(r.out, "unknown: trace too short (needs 55 s)")) << r;  // AFC27's windows reach 55 s
+}
+
 TEST_F(CliTest, TableReadsADatabaseInAReadOnlyFolder) {
   const fs::path folder = work() / "ro";
   fs::create_directories(folder);
