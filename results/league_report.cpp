@@ -68,6 +68,7 @@ LeagueRowVerdicts row_verdicts(const std::vector<LeagueCell>& row) {
       v.leader = static_cast<std::ptrdiff_t>(c);
   }
   v.against_leader.resize(row.size());
+  if (v.leader >= 0 && row[static_cast<std::size_t>(v.leader)].falsified == 0) v.leader = -1;  // nobody falsified: no leader
   if (v.leader < 0) return v;
   const LeagueCell& best = row[static_cast<std::size_t>(v.leader)];
   for (std::size_t c = 0; c < row.size(); ++c) {
@@ -226,6 +227,10 @@ std::string verdict_lines(const LeagueReport& r) {
       }
       if (!r.cells[i][c].not_applicable.empty()) {
         line.emplace_back("n/a");
+        continue;
+      }
+      if (v.leader < 0) {  // no run of the row falsified: nothing to compare against
+        line.emplace_back(std::string(kMissing));
         continue;
       }
       line.push_back(comparison_text(v.against_leader[c]));

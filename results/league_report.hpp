@@ -40,7 +40,7 @@ struct LeagueComparison {
 };
 
 struct LeagueRowVerdicts {
-  std::ptrdiff_t leader = -1;  // the column with most falsified runs, ties to fewer mean simulations; -1: none
+  std::ptrdiff_t leader = -1;  // the column with most falsified runs, ties to fewer mean simulations; -1: none (or no run falsified)
   std::vector<LeagueComparison> against_leader;  // per column (the leader's own is empty)
 };
 

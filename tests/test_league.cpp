@@ -247,6 +247,15 @@ TEST(LeagueReport, ACellThatDoesNotApplyIsShownAsSuchAndJudgedNowhere) {
   EXPECT_EQ(csv.find(",A,thermostat,tree,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",A,thermostat,random,"), std::string::npos) << csv;
   EXPECT_THROW(make_league_report(t, trials, {true, false}, {}, {{"", ""}}), std::invalid_argument);
+
+  // A row nobody falsifies has no leader (nothing bold, no comparisons).
+  std::vector<std::vector<std::vector<TrialRecord>>> none(2, std::vector<std::vector<TrialRecord>>(2));
+  for (int i = 0; i < 3; ++i) none[0][1].push_back(run_of(TrialStatus::node_cap, 100.0));
+  const LeagueReport rn = make_league_report(t, none, {true, false}, {}, why);
+  EXPECT_EQ(rn.verdicts[0].leader, -1);
+  const std::string mdn = to_markdown(rn, h);
+  EXPECT_NE(mdn.find("| A | thermostat | n/a | 0/3 |"), std::string::npos) << mdn;
+  EXPECT_NE(mdn.find("| A | – | n/a | – |"), std::string::npos) << mdn;
 }
 
 // A tree given a budget stops once its simulated time reaches budget x the requirement's horizon
