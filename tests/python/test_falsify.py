@@ -118,11 +118,26 @@ def test_falsify_options_and_suite_objects():
     (dict(suite="at", requirement="AT2", experiment="../x"), ValueError, "experiment"),
     (dict(suite="aircraft", method="hydice", example="esposito5", step=-3.0), ValueError, "step"),
     (dict(suite=3), TypeError, "suite"),
+    # F16 has no inputs: a method that searches only input signals cannot drive it.
+    (dict(suite="f16", requirement="F16", method="rrt"), ValueError, r"parameters P \(roll, pitch, yaw\); use rrft"),
 ])
 def test_falsify_errors(kwargs, error, match):
     suite = kwargs.pop("suite")
     with pytest.raises(error, match=match):
         hyfal.falsify(suite, **kwargs)
+
+
+def test_falsify_searches_the_f16_attitude():
+    # F16's search is over its initial attitude (parameters P): at 2338 ft CMA-ES finds the falsifying
+    # corner (roll high, pitch low), and the witness carries the attitude, inside the ARCH box.
+    r = hyfal.falsify("f16", requirement="F16", altitude=2338, method="cmaes", budget=300, trials=2, seed=1)
+    assert list(r["status"]) == ["falsified", "falsified"]
+    for w in r["witness"]:
+        roll, pitch, yaw = w.parameters
+        assert np.pi / 4 - np.pi / 20 <= roll <= np.pi / 4 + np.pi / 30 and roll > 0.85
+        assert -0.4 * np.pi <= pitch <= -0.4 * np.pi + np.pi / 20 and pitch < -1.24
+        assert -np.pi / 4 - np.pi / 8 <= yaw <= -np.pi / 4 + np.pi / 8
+        assert w.robustness < 0
 
 
 def test_falsify_releases_the_gil():
