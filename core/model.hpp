@@ -33,6 +33,10 @@
 //    cubic that g_k is along the step's interpolant, without computing states (g_k is evaluated
 //    at the origin and at the interpolant's coefficient vectors: g_k(c) − g_k(0) is its linear
 //    part).
+//    Optional: `static constexpr int flowing_dim = n;` when the flow is zero in every component
+//    from n on in every mode (states only the jumps change: a sampled controller's memory, a
+//    register): ROS34PW2 then integrates the first n components only and carries the rest (its
+//    Jacobian is n × n); RK4 and dopri5 integrate them all (at flow 0).
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the
@@ -107,9 +111,13 @@ struct InputSet {
   static InputSet grid(Box box, int levels);
 };
 
-enum class IntegratorKind { rk4, dopri5 };
+// rk4: classical fixed-step RK4 (core/rk4.hpp); dopri5: adaptive Dormand-Prince 5 with dense
+// output; rosenbrock: fixed-step ROS34PW2 (core/rosenbrock.hpp), linearly implicit and L-stable, for a
+// stiff flow. The fixed-step kinds share `step`, `interpolation` and event location.
+enum class IntegratorKind { rk4, dopri5, rosenbrock };
 
-// RK4: the states inside a step, where events are located (dopri5 always uses its dense output).
+// RK4 and ROS34PW2: the states inside a step, where events are located (dopri5 always uses its dense
+// output).
 //  - restep: a fresh RK4 step of length tau from the step's start, each a genuine RK4 solution;
 //    toms748 brackets the event (the default).
 //  - hermite: the cubic Hermite interpolant through the step's end states and their

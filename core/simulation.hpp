@@ -1,7 +1,8 @@
 // Simulation of one hybrid model: fixed-step RK4 (core/rk4.hpp: odeint's runge_kutta4, step for
-// step and bit for bit) or Boost.Odeint's adaptive Dormand-Prince 5 with dense output, event
+// step and bit for bit), fixed-step Rosenbrock-W ROS34PW2 for stiff flows (core/rosenbrock.hpp), or Boost.Odeint's
+// adaptive Dormand-Prince 5 with dense output, event
 // detection by sign change of a guard within a step and localization with Boost.Math toms748
-// (seed 002 Alg. 3); for RK4 optionally on the step's Hermite interpolant with a regula falsi, or
+// (seed 002 Alg. 3); for the fixed steps optionally on the step's Hermite interpolant with a regula falsi, or
 // Newton's method where the guards are affine (StepInterpolation::hermite, model.hpp).
 //
 // The model is a template parameter, so every RK stage calls M::flow directly. All buffers
@@ -22,6 +23,7 @@
 
 #include "core/model.hpp"
 #include "core/rk4.hpp"
+#include "core/rosenbrock.hpp"
 #include "core/root_bracket.hpp"
 
 namespace hyfal {
@@ -58,7 +60,10 @@ class ModelPropagator final : public Propagator {
         dense_(odeint::make_dense_output(settings.abs_tol, settings.rel_tol, settings.max_step,
                                          Dopri5())),
         dim_(static_cast<std::size_t>(model.dim())),
-        rk4_(dim_), x0_(dim_), x1_(dim_), xt_(dim_) {
+        rk4_(dim_),
+        ros_(settings.kind == IntegratorKind::rosenbrock ? dim_ : 0,
+             settings.kind == IntegratorKind::rosenbrock ? flowing_dim(model) : 0),
+        x0_(dim_), x1_(dim_), xt_(dim_) {
     if (hermite()) {
       for (State* c : {&c1_, &c2_, &c3_, &xh_, &zero_}) c->resize(dim_);
     }
@@ -83,6 +88,7 @@ class ModelPropagator final : public Propagator {
     }
     std::copy(x.begin(), x.end(), x0_.begin());
     ++step_;
+    next_h_ = settings_.step;  // every propagation starts from the same step: no history, no thread in it
     const double* pp = p.data();
     // Already unsafe, or an urgent transition already enabled: zero-time outcome. (STL mode,
     // sink_ set: the unsafe set does not stop the flow; only s is sampled, see set_trace.)
@@ -197,13 +203,12 @@ class ModelPropagator final : public Propagator {
     const FlowField field{&model_, q, u.data(), p.data()};
     const double t_eps = 1e-12 * std::max(1.0, std::abs(duration));
     std::int64_t steps = 0;
-    if (settings_.kind == IntegratorKind::rk4) {
+    if (fixed_step()) {
       double t = 0.0;
+      next_h_ = settings_.step;
       while (duration - t > t_eps) {
-        const double h = std::min(settings_.step, duration - t);
-        rk4_(field, x0_.data(), x1_.data(), h);
+        t = step_to(field, t, duration);
         std::swap(x0_, x1_);
-        t += h;
         ++steps;
       }
     } else if (duration > t_eps) {
@@ -257,8 +262,25 @@ class ModelPropagator final : public Propagator {
     return true;
   }
 
-  bool hermite() const {
-    return settings_.kind == IntegratorKind::rk4 && settings_.interpolation == StepInterpolation::hermite;
+  bool hermite() const { return fixed_step() && settings_.interpolation == StepInterpolation::hermite; }
+  bool fixed_step() const { return settings_.kind != IntegratorKind::dopri5; }
+  // One fixed step of length h from x (RK4 or ROS34PW2), and the flow at its start.
+  template <class Flow>
+  void step_fixed(const Flow& field, const double* x, double* out, double h) {
+    if (settings_.kind == IntegratorKind::rosenbrock)
+      ros_(field, x, out, h);
+    else
+      rk4_(field, x, out, h);
+  }
+  const double* start_slope() const {
+    return settings_.kind == IntegratorKind::rosenbrock ? ros_.start_slope() : rk4_.start_slope();
+  }
+  // M::flowing_dim (model.hpp), or every component.
+  static std::size_t flowing_dim(const M& model) {
+    if constexpr (requires { M::flowing_dim; })
+      return static_cast<std::size_t>(M::flowing_dim);
+    else
+      return static_cast<std::size_t>(model.dim());
   }
 
   // State at time tau in the current step [t, t1]: RK4 re-steps from x0_ (a genuine RK4
@@ -275,12 +297,12 @@ class ModelPropagator final : public Propagator {
         return;
       }
     }
-    if (settings_.kind == IntegratorKind::rk4) {
+    if (fixed_step()) {
       if (tau <= t) {
         std::copy(x0_.begin(), x0_.end(), xs.begin());
         return;
       }
-      rk4_(field, x0_.data(), xs.data(), tau - t);
+      step_fixed(field, x0_.data(), xs.data(), tau - t);
     } else {
       dense_.calc_state(tau, xs);
     }
@@ -353,7 +375,7 @@ class ModelPropagator final : public Propagator {
   // The step's cubic Hermite interpolant (the classical dense output of a one-step method):
   // x(θ) = x0 + θ (c1 + θ (c2 + θ c3)), θ = (tau − t)/h in [0, 1], with c1 = h f0,
   // c2 = 3Δ − h (2 f0 + f1), c3 = h (f0 + f1) − 2Δ, Δ = x1 − x0, f0 and f1 the flow at the ends.
-  // The coefficients are computed once per step (step_); f0 is the RK4 step's first stage.
+  // The coefficients are computed once per step (step_); f0 is the step's first stage.
   void hermite_prepare(const FlowField& field, double t) {
     if (hermite_step_ == step_) return;
     const std::size_t n = dim_;
@@ -362,7 +384,7 @@ class ModelPropagator final : public Propagator {
     hermite_h_ = step_h_;
     hermite_inv_h_ = 1.0 / step_h_;
     for (double& tau : located_tau_) tau = std::numeric_limits<double>::quiet_NaN();
-    std::copy(rk4_.start_slope(), rk4_.start_slope() + n, c1_.begin());  // f0 (step_to's k1)
+    std::copy(start_slope(), start_slope() + n, c1_.begin());  // f0 (step_to's first stage)
     field(x1_.data(), c2_.data());                                       // f1
     const double h = hermite_h_;
     for (std::size_t i = 0; i < n; ++i) {
@@ -490,12 +512,13 @@ class ModelPropagator final : public Propagator {
     }
   }
 
-  // One integration step from (t, x0_) to t1 (at most `end_t`), into x1_. RK4: a fixed step;
-  // dopri5: the dense stepper's next step, cut at end_t.
+  // One integration step from (t, x0_) to t1 (at most `end_t`), into x1_. RK4, ROS34PW2: a fixed
+  // step; dopri5: the dense stepper's next step, cut at end_t.
   double step_to(const FlowField& field, double t, double end_t) {
-    if (settings_.kind == IntegratorKind::rk4) {
+    if (settings_.kind == IntegratorKind::rosenbrock) return rosenbrock_step_to(field, t, end_t);
+    if (fixed_step()) {
       const double h = std::min(settings_.step, end_t - t);
-      rk4_(field, x0_.data(), x1_.data(), h);
+      step_fixed(field, x0_.data(), x1_.data(), h);
       step_h_ = h;
       return t + h;
     }
@@ -507,6 +530,39 @@ class ModelPropagator final : public Propagator {
     }
     std::copy(dense_.current_state().begin(), dense_.current_state().end(), x1_.begin());
     return tb;
+  }
+
+  // ROS34PW2 with step-size control: the step from next_h_ (settings_.step at a propagation's
+  // start), cut at end_t, halved-or-so until its embedded error estimate is <= 1 in the
+  // abs_tol/rel_tol norm (RosenbrockStep::error_norm), and the next step proposed by the
+  // standard controller h (0.9 / err)^(1/3), within [h / 5, 5 h] and at most max_step (Hairer &
+  // Wanner, Solving ODEs I, II.4). A step of kMinStep or less is taken whatever its error (a
+  // non-finite end is rejected by the caller). Deterministic: the proposal depends only on the
+  // propagation's own steps.
+  double rosenbrock_step_to(const FlowField& field, double t, double end_t) {
+    const double left = end_t - t;
+    double h = std::min(next_h_, left);
+    bool cut = left < next_h_;  // shortened to end at end_t, not by the error
+    for (;;) {
+      ros_(field, x0_.data(), x1_.data(), h);
+      const double err = ros_.error_norm(x0_.data(), x1_.data(), settings_.abs_tol, settings_.rel_tol);
+      if (err <= 1.0) {
+        const double grow = err > 0.0 ? std::min(5.0, 0.9 * std::pow(err, -1.0 / RosenbrockStep::kErrorOrder)) : 5.0;
+        // A step cut at end_t says nothing about the next: keep the proposal that was cut.
+        const double proposal = cut ? std::max(next_h_, h * grow) : h * grow;
+        next_h_ = std::min(proposal, settings_.max_step);
+        break;
+      }
+      if (h <= kMinStep) {  // cannot do better: take it (a NaN end is the caller's to reject)
+        next_h_ = kMinStep;
+        break;
+      }
+      const double shrink = std::isfinite(err) ? std::max(0.2, 0.9 * std::pow(err, -1.0 / RosenbrockStep::kErrorOrder)) : 0.25;
+      h = std::max(h * shrink, kMinStep);
+      cut = false;
+    }
+    step_h_ = h;
+    return h >= left ? end_t : t + h;
   }
 
   // propagate() in STL mode (a sink is set): the same steps, invariant and guard events as in
@@ -596,6 +652,7 @@ class ModelPropagator final : public Propagator {
   Dense dense_;
   std::size_t dim_;
   Rk4Step rk4_;
+  RosenbrockStep ros_;
   State x0_, x1_, xt_;
   std::vector<double> g0_, g1_;
   std::vector<double> h0_, h1_;  // guard_peak values at the step's ends (kGuardPeaks only)
@@ -610,6 +667,8 @@ class ModelPropagator final : public Propagator {
   double hermite_t_ = 0.0, hermite_h_ = 1.0, hermite_inv_h_ = 1.0;
   std::array<double, 8> located_tau_{}, located_theta_{};  // the step's brackets' ends (theta_of)
   std::size_t next_theta_ = 0;
+  double next_h_ = 0.0;  // ROS34PW2: the step the controller proposes next (rosenbrock_step_to)
+  static constexpr double kMinStep = 1e-12;
   double step_h_ = 0.0;  // the length of the current RK4 step (step_to)
 };
 

@@ -117,8 +117,163 @@ IntegratorSettings dopri5(double tol, double max_step = 0.05) {
   return s;
 }
 
+// ROS34PW2 at a fixed step h: no step fails a tolerance of 1e30, and none grows past max_step.
+IntegratorSettings ros34pw2(double h) {
+  IntegratorSettings s;
+  s.kind = IntegratorKind::rosenbrock;
+  s.step = s.max_step = h;
+  s.abs_tol = s.rel_tol = 1e30;
+  return s;
+}
+// ROS34PW2 with step-size control from a first step h.
+IntegratorSettings ros34pw2_adaptive(double tol, double h = 1e-3, double max_step = 0.5) {
+  IntegratorSettings s;
+  s.kind = IntegratorKind::rosenbrock;
+  s.step = h;
+  s.max_step = max_step;
+  s.abs_tol = s.rel_tol = tol;
+  return s;
+}
+
 const double kNoP[1] = {0.0};
 const double kNoU[1] = {0.0};
+
+// x' = x², y' = -x y (nonlinear, coupled): x(t) = 1 / (1/x0 - t), y(t) = y0 (1 - x0 t); and z, a
+// component the flow leaves at 0 (flowing_dim = 2), which ROS34PW2 carries.
+struct Quadratic {
+  static constexpr int flowing_dim = 2;
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 3; }
+  bool valid_mode(Mode q) const { return q == 0; }
+  void flow(Mode, const double* x, const double*, const double*, double* dx) const {
+    dx[0] = x[0] * x[0];
+    dx[1] = -x[0] * x[1];
+    dx[2] = 0.0;
+  }
+  int guard_count(Mode) const { return 0; }
+  double guard(Mode, int, const double*, const double*) const { return -1; }
+  Mode jump(Mode q, int, double*, const double*) const { return q; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double*, const double*) const { return 1.0; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+// ROS34PW2 (core/rosenbrock.hpp) is of third order: on a nonlinear flow its error at t = 1 falls
+// about 8-fold each time h halves; and it carries the components beyond flowing_dim unchanged.
+TEST(Integration, Ros34pw2IsOfThirdOrder) {
+  const Quadratic m;
+  double previous = 0.0;
+  for (const double h : {0.1, 0.05, 0.025, 0.0125}) {
+    ModelPropagator<Quadratic> prop(m, ros34pw2(h));
+    double x0[3] = {0.5, 2.0, 7.25}, x1[3];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::completed);
+    const double error = std::max(std::abs(x1[0] - 1.0), std::abs(x1[1] - 1.0));  // x(1) = 1, y(1) = 2 (1 - 0.5)
+    EXPECT_EQ(x1[2], 7.25);
+    if (previous > 0.0) {
+      const double ratio = previous / error;
+      EXPECT_GT(ratio, 7.0) << h;
+      EXPECT_LT(ratio, 9.5) << h;
+    }
+    previous = error;
+  }
+  EXPECT_LT(previous, 1e-5);
+}
+
+// x' = -k (x - cos t)-like stiffness without the time: x' = λ (x - y), y' = -y, λ = -1e5. RK4 at
+// h = 0.01 (h λ = -1000) blows up; ROS34PW2 (L-stable) follows the slow solution, x ≈ y = e^{-t}.
+struct StiffPair {
+  InputSet u = InputSet::grid({{0.0}, {0.0}}, 1);
+  int dim() const { return 2; }
+  bool valid_mode(Mode q) const { return q == 0; }
+  void flow(Mode, const double* x, const double*, const double*, double* dx) const {
+    dx[0] = -1e5 * (x[0] - x[1]);
+    dx[1] = -x[1];
+  }
+  int guard_count(Mode) const { return 0; }
+  double guard(Mode, int, const double*, const double*) const { return -1; }
+  Mode jump(Mode q, int, double*, const double*) const { return q; }
+  bool invariant(Mode, const double*, const double*) const { return true; }
+  double spec(Mode, const double*, const double*) const { return 1.0; }
+  const InputSet& inputs(Mode) const { return u; }
+};
+
+TEST(Integration, Ros34pw2TakesStiffStepsWhereRk4Diverges) {
+  const StiffPair m;
+  double x0[2] = {1.0, 1.0}, x1[2];
+  ModelPropagator<StiffPair> explicit_prop(m, rk4(0.01));
+  EXPECT_EQ(explicit_prop.propagate(0, x0, kNoU, kNoP, 1.0, x1).end, PropagationEnd::rejected);
+  ModelPropagator<StiffPair> implicit_prop(m, ros34pw2(0.01));
+  const auto r = implicit_prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+  ASSERT_EQ(r.end, PropagationEnd::completed);
+  EXPECT_EQ(r.steps, 100);
+  // x = y (1 + 1e-5 + O(1e-10)) on the slow manifold; the third-order step's error in y is 3.3e-8
+  // (measured), about C h³.
+  EXPECT_NEAR(x1[1], std::exp(-1.0), 1e-7);
+  EXPECT_NEAR(x1[0], x1[1] * (1.0 + 1e-5), 1e-7);
+}
+
+// With step-size control, ROS34PW2 meets its tolerance on the stiff pair (the fast mode decays
+// within its first steps, then the steps grow to max_step) and on the nonlinear flow, a tighter
+// tolerance gives a smaller error with more steps, and a propagation's steps do not depend on
+// what the propagator did before (the controller restarts from `step`).
+TEST(Integration, Ros34pw2AdaptsItsStep) {
+  {
+    const StiffPair m;
+    ModelPropagator<StiffPair> prop(m, ros34pw2_adaptive(1e-8));
+    double x0[2] = {1.0, 1.0}, x1[2];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::completed);
+    EXPECT_NEAR(x1[1], std::exp(-1.0), 1e-7);
+    EXPECT_NEAR(x1[0], x1[1] * (1.0 + 1e-5), 1e-7);
+    EXPECT_LT(r.steps, 200);  // 139 measured; RK4 needs 1e5 · 1.0 / 2.785 > 35,000 steps to be stable
+    // Started 1 off the slow manifold, the fast mode is followed to the tolerance, then damped.
+    double off[2] = {1.0, 0.0};
+    const auto fast = prop.propagate(0, off, kNoU, kNoP, 1.0, x1);
+    ASSERT_EQ(fast.end, PropagationEnd::completed);
+    EXPECT_NEAR(x1[0], 0.0, 1e-12);
+    EXPECT_LT(fast.steps, 600);  // 450 measured: most in the first 1e-4 s
+  }
+  const Quadratic m;
+  double errors[2], steps[2];
+  for (int i = 0; i < 2; ++i) {
+    ModelPropagator<Quadratic> prop(m, ros34pw2_adaptive(i == 0 ? 1e-5 : 1e-9));
+    double x0[3] = {0.5, 2.0, 7.25}, x1[3];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 1.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::completed);
+    errors[i] = std::max(std::abs(x1[0] - 1.0), std::abs(x1[1] - 1.0));
+    steps[i] = static_cast<double>(r.steps);
+    EXPECT_EQ(x1[2], 7.25);
+    // Again after another propagation, bit for bit.
+    double y0[3] = {0.25, 1.0, 0.0}, y1[3], x2[3];
+    prop.propagate(0, y0, kNoU, kNoP, 0.5, y1);
+    const auto again = prop.propagate(0, x0, kNoU, kNoP, 1.0, x2);
+    EXPECT_EQ(again.steps, r.steps);
+    EXPECT_EQ(x2[0], x1[0]);
+    EXPECT_EQ(x2[1], x1[1]);
+  }
+  EXPECT_LT(errors[0], 1e-3);
+  EXPECT_LT(errors[1], 1e-6);
+  EXPECT_LT(errors[1], errors[0] / 30.0);
+  EXPECT_GT(steps[1], 3.0 * steps[0]);
+}
+
+// Events under ROS34PW2: the bouncing ball's impact (a quadratic path: the third-order step is exact)
+// on the Hermite interpolant and by re-stepping.
+TEST(Events, BouncingBallImpactTimeRos34pw2) {
+  const double exact = std::sqrt(2.0 * 10.0 / Ball::g);
+  for (IntegratorSettings s : {ros34pw2(0.01), ros34pw2(0.01)}) {
+    static int round = 0;
+    if (round++ % 2) s.interpolation = StepInterpolation::hermite;
+    const Ball ball;
+    ModelPropagator<Ball> prop(ball, s);
+    double x0[2] = {10.0, 0.0}, x1[2];
+    const auto r = prop.propagate(0, x0, kNoU, kNoP, 3.0, x1);
+    ASSERT_EQ(r.end, PropagationEnd::jumped);
+    EXPECT_NEAR(r.duration, exact, 1e-9);
+    EXPECT_NEAR(x1[1], Ball::e * Ball::g * exact, 1e-7);
+  }
+}
 
 TEST(Integration, Rk4MatchesClosedForm) {
   const Decay m;
@@ -521,7 +676,7 @@ TEST(Events, NonFiniteStateIsRejected) {
 }
 
 TEST(Allocation, PropagationsAllocateNothing) {
-  for (const auto& s : {rk4(0.01), rk4_hermite(0.01), dopri5(1e-9)}) {
+  for (const auto& s : {rk4(0.01), rk4_hermite(0.01), dopri5(1e-9), ros34pw2(0.01), ros34pw2_adaptive(1e-8)}) {
     const Ball ball;
     ModelPropagator<Ball> prop(ball, s);
     double x0[2] = {10.0, 0.0}, x1[2];

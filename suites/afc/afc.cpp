@@ -103,6 +103,7 @@ constexpr double kTickLead = 1e-6;  // ticks fire this much early (header, 5)
 constexpr double kPieceLength = 5.0;
 constexpr int kSlots = 40;          // delay register: samples at the last 40 ticks (header, 6)
 constexpr double kInitialOutput = 14.7;
+constexpr double kRk4Step = 1e-4, kRosFirstStep = kTick;  // the integrators' default steps (header, 7)
 
 class Afc {
  public:
@@ -112,6 +113,7 @@ class Afc {
     kReg, kDim = kReg + 3 * kSlots
   };
   static constexpr bool guards_affine = true;
+  static constexpr int flowing_dim = kPhat;  // the controller's states and the register only jump
 
   Afc(double horizon, double lo, double hi)
       : horizon_(horizon), inputs_(InputSet{Box{{lo}, {hi}}, {lo, 0.5 * (lo + hi), hi}}) {}
@@ -262,14 +264,21 @@ class Afc {
 std::shared_ptr<const System> make_afc(const Json& instance) {
   const double horizon = instance.at("horizon").get<double>();
   const double engine = instance.at("engine").get<double>();
-  const double step = instance.at("integration_step").get<double>();
+  const std::string integrator = instance.at("integrator").get<std::string>();
+  if (integrator != "ros34pw2" && integrator != "rk4") throw std::invalid_argument("afc: integrator must be ros34pw2 or rk4");
+  const bool implicit = integrator == "ros34pw2";
+  double step = instance.at("integration_step").get<double>();
+  if (step == 0.0) step = implicit ? kRosFirstStep : kRk4Step;
+  const double tolerance = instance.at("tolerance").get<double>();
+  if (!(tolerance > 0.0 && tolerance < 1.0)) throw std::invalid_argument("afc: tolerance must be in (0, 1)");
   std::string range = instance.at("pedal_range").get<std::string>();
   if (range == "auto") range = instance.value("requirement", std::string()) == "AFC33" ? "power" : "normal";
   if (!(horizon > 0.0)) throw std::invalid_argument("afc: horizon must be > 0 (seconds)");
   if (!(engine >= afc::kRpmLo && engine <= afc::kRpmHi)) throw std::invalid_argument("afc: engine must be in [900, 1100] rpm");
   const double ticks = kTick / step;
-  if (!(step > 0.0) || std::abs(ticks - std::round(ticks)) > 1e-9)
-    throw std::invalid_argument("afc: integration_step must divide 0.01 s (the controller's period)");
+  if (!(step > 0.0) || (!implicit && std::abs(ticks - std::round(ticks)) > 1e-9))
+    throw std::invalid_argument("afc: integration_step must divide 0.01 s (the controller's period) for rk4");
+  if (step > kTick) throw std::invalid_argument("afc: integration_step must be <= 0.01 s");
   const bool power = range == "power";
   const double lo = power ? 61.2 : 0.0, hi = power ? 81.2 : 61.1;
   SystemInfo info;
@@ -330,9 +339,10 @@ std::shared_ptr<const System> make_afc(const Json& instance) {
   info.coverage = {{Afc::kPm, Afc::kAf}, {{0.8, 12.0}, {1.0, 17.0}}, 0.01};
   info.step_duration = kPieceLength;
   info.held_inputs = true;  // ARCH instance 2: u1 piecewise constant on 5 s pieces
-  info.integrator.kind = IntegratorKind::rk4;
+  info.integrator.kind = implicit ? IntegratorKind::rosenbrock : IntegratorKind::rk4;
   info.integrator.step = step;
-  info.integrator.max_step = step;
+  info.integrator.max_step = implicit ? kTick : step;
+  info.integrator.abs_tol = info.integrator.rel_tol = tolerance;
   info.integrator.interpolation = StepInterpolation::hermite;
   info.witness_tolerance = 1e-3;
   return std::make_shared<ModelSystem<Afc>>(Afc(horizon, lo, hi), std::move(info));
@@ -351,8 +361,16 @@ SuiteEntry afc_suite() {
             "pedal input range: normal [0, 61.1] (AFC27, AFC29), power [61.2, 81.2] (AFC33); auto: power for "
             "requirement AFC33, normal otherwise",
             "auto|normal|power"},
-           {"integration_step", 1e-4, "fixed RK4 step, s; must divide 0.01 s (stable up to ~1.27e-4 s in the power "
-            "range, ~2.1e-4 s in the normal range)", "[1e-6, 0.01]"}},
+           {"integrator", "ros34pw2",
+            "ros34pw2: the linearly implicit, L-stable ROS34PW2 with step-size control (steps of up to 10 ms where the "
+            "stiff manifold is at rest); rk4: explicit RK4 at a fixed step (stable only up to ~1.27e-4 s in the power "
+            "range)",
+            "ros34pw2|rk4"},
+           {"integration_step", 0.0,
+            "s; rk4: the fixed step, dividing 0.01 s; ros34pw2: the first step of every propagation; 0: the "
+            "integrator's default (rk4 1e-4, ros34pw2 0.01)",
+            "[0, 0.01]"},
+           {"tolerance", 1e-7, "ros34pw2: absolute and relative error tolerance of a step", "(0, 1)"}},
           make_afc};
 }
 

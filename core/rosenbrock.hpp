@@ -1,0 +1,188 @@
+// One step of ROS34PW2, the L-stable, stiffly accurate third-order Rosenbrock-W method of Rang &
+// Angermann ("New Rosenbrock W-methods of order 3 for partial differential algebraic equations of
+// index 1", BIT 45, 2005), with its embedded second-order solution for step-size control
+// (error_norm; simulation.hpp adapts the step), for stiff flows: where an explicit step is held to
+// |h λ| < 2.8 by one fast eigenvalue (the AFC intake manifold: λ ≈ -11,500 1/s near wide-open
+// throttle), it takes the steps the slow dynamics allow, and (L-stable) damps the fast mode at once.
+// ROS3P (Lang & Verwer 2001), tried first, is only A-stable: its R(∞) = -0.73 left the manifold's
+// fast mode ringing, AFC's mu 1.4e-4 off a tight Dormand-Prince at every step from 1 ms to 5 ms,
+// and unstable at 10 ms (tests/test_afc.cpp, measured).
+//
+// The scheme (Hairer & Wanner, Solving ODEs II, IV.7 (7.4), autonomous), W = I - γ h J:
+//   W k_i = h f(x + Σ_{j<i} a_ij k_j) + h J Σ_{j<i} g_ij k_j,   i = 1..4
+//   x(t + h) = x + Σ b_i k_i
+// with Rang & Angermann's coefficients below (b_j = a_4j + g_4j, b_4 = γ: stiffly accurate). J is
+// formed by forward differences (step √ε max(|x_j|, 1)) and W factored once per step (LU with
+// partial pivoting): 4 + n flow evaluations and one n×n factorization a step. A W-method keeps its
+// order with an approximate J. Third order is checked by tests/test_simulation.cpp (the error of a
+// nonlinear flow falls 8-fold when h halves).
+//
+// The embedded solution x̂ = x + Σ b̂_i k_i (Rang & Angermann's b̂, order 2) gives the local error
+// estimate e = Σ (b_i − b̂_i) k_i of the step just taken.
+//
+// Only the first `flowing` components are integrated: a model may declare that its flow is zero
+// beyond them (M::flowing_dim, model.hpp: states only its jumps change, such as a controller's
+// memory), and they are then carried unchanged, so that J is flowing × flowing.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace hyfal {
+
+class RosenbrockStep {
+ public:
+  RosenbrockStep(std::size_t dim, std::size_t flowing)
+      : n_(dim), m_(flowing), f0_(dim), f_(dim), y_(dim), v_(flowing), jac_(flowing * flowing), lu_(flowing * flowing),
+        pivot_(flowing) {
+    for (auto& k : k_) k.resize(flowing);
+  }
+
+  // out = the step of length h from x under flow(x, dx). out must not alias x. Returns false when
+  // W is singular (the step is not taken: out holds NaN, which the propagator rejects).
+  template <class Flow>
+  bool operator()(const Flow& flow, const double* x, double* out, double h) {
+    const std::size_t n = n_, m = m_;
+    flow(x, f0_.data());
+    jacobian(flow, x);
+    for (std::size_t i = 0; i < m * m; ++i) lu_[i] = -kGamma * h * jac_[i];
+    for (std::size_t i = 0; i < m; ++i) lu_[i * m + i] += 1.0;
+    if (!factor()) {
+      for (std::size_t i = 0; i < n; ++i) out[i] = std::numeric_limits<double>::quiet_NaN();
+      return false;
+    }
+    for (std::size_t i = 0; i < n; ++i) y_[i] = x[i];
+    for (int stage = 0; stage < kStages; ++stage) {
+      double* k = k_[stage].data();
+      // Y = x + Σ a_ij k_j; f(Y) (stage 1: f(x), already known).
+      if (stage == 0) {
+        for (std::size_t i = 0; i < m; ++i) k[i] = h * f0_[i];
+      } else {
+        for (std::size_t i = 0; i < m; ++i) {
+          double sum = x[i];
+          for (int j = 0; j < stage; ++j) sum += kA[stage][j] * k_[j][i];
+          y_[i] = sum;
+        }
+        flow(y_.data(), f_.data());
+        // v = Σ g_ij k_j; k = h f(Y) + h J v.
+        for (std::size_t i = 0; i < m; ++i) {
+          double v = 0.0;
+          for (int j = 0; j < stage; ++j) v += kG[stage][j] * k_[j][i];
+          v_[i] = v;
+        }
+        for (std::size_t i = 0; i < m; ++i) {
+          double jv = 0.0;
+          for (std::size_t j = 0; j < m; ++j) jv += jac_[i * m + j] * v_[j];
+          k[i] = h * (f_[i] + jv);
+        }
+      }
+      solve(k);
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      double sum = x[i];
+      for (int j = 0; j < kStages; ++j) sum += kB[j] * k_[j][i];
+      out[i] = sum;
+    }
+    for (std::size_t i = m; i < n; ++i) out[i] = x[i];
+    return true;
+  }
+
+  // The flow at the last step's start.
+  const double* start_slope() const { return f0_.data(); }
+
+  // The last step's error estimate (x its start, out its end) in the weighted RMS norm of
+  // Hairer & Wanner (II.4 (4.11)): sqrt(mean_i (e_i / (atol + rtol max(|x_i|, |out_i|)))²) over
+  // the flowing components; <= 1 accepts the step. NaN when a value is not finite.
+  double error_norm(const double* x, const double* out, double atol, double rtol) const {
+    const std::size_t m = m_;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      double e = 0.0;
+      for (int j = 0; j < kStages; ++j) e += (kB[j] - kBHat[j]) * k_[j][i];
+      const double scale = atol + rtol * std::max(std::abs(x[i]), std::abs(out[i]));
+      const double r = e / scale;
+      sum += r * r;
+    }
+    const double norm = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(m, 1)));
+    return std::isfinite(norm) ? norm : std::numeric_limits<double>::quiet_NaN();
+  }
+  // The embedded solution's order + 1: the exponent of the step-size controller.
+  static constexpr double kErrorOrder = 3.0;
+
+ private:
+  // Rang & Angermann's ROS34PW2 (their Table 2), in the form above.
+  static constexpr int kStages = 4;
+  static constexpr double kGamma = 4.3586652150845900e-1;
+  static constexpr double kA[kStages][kStages] = {{0, 0, 0, 0},
+                                                  {8.7173304301691801e-1, 0, 0, 0},
+                                                  {8.4457060015369423e-1, -1.1299064236484185e-1, 0, 0},
+                                                  {0, 0, 1, 0}};
+  static constexpr double kG[kStages][kStages] = {{0, 0, 0, 0},
+                                                  {-8.7173304301691801e-1, 0, 0, 0},
+                                                  {-9.0338057013044082e-1, 5.4180672388095326e-2, 0, 0},
+                                                  {2.4212380706095346e-1, -1.2232505839045147, 5.4526025533510214e-1, 0}};
+  static constexpr double kB[kStages] = {2.4212380706095346e-1, -1.2232505839045147, 1.5452602553351020,
+                                         4.3586652150845900e-1};
+  static constexpr double kBHat[kStages] = {3.7810903145819369e-1, -9.6042292212423178e-2, 5.0e-1,
+                                            2.1793326075422950e-1};
+
+  // jac_ (row-major, m × m) = ∂f_i/∂x_j at x by forward differences; f0_ = f(x).
+  template <class Flow>
+  void jacobian(const Flow& flow, const double* x) {
+    const std::size_t n = n_, m = m_;
+    for (std::size_t i = 0; i < n; ++i) y_[i] = x[i];
+    for (std::size_t j = 0; j < m; ++j) {
+      const double step = kSqrtEps * std::max(std::abs(x[j]), 1.0);
+      y_[j] = x[j] + step;
+      const double actual = y_[j] - x[j];  // the step as represented
+      flow(y_.data(), f_.data());
+      for (std::size_t i = 0; i < m; ++i) jac_[i * m + j] = (f_[i] - f0_[i]) / actual;
+      y_[j] = x[j];
+    }
+  }
+
+  // LU of lu_ in place with partial pivoting (Doolittle); false when a pivot is 0 or not finite.
+  bool factor() {
+    const std::size_t m = m_;
+    for (std::size_t k = 0; k < m; ++k) {
+      std::size_t p = k;
+      for (std::size_t i = k + 1; i < m; ++i)
+        if (std::abs(lu_[i * m + k]) > std::abs(lu_[p * m + k])) p = i;
+      pivot_[k] = p;
+      if (p != k)
+        for (std::size_t j = 0; j < m; ++j) std::swap(lu_[k * m + j], lu_[p * m + j]);
+      const double d = lu_[k * m + k];
+      if (!(std::abs(d) > 0.0) || !std::isfinite(d)) return false;
+      for (std::size_t i = k + 1; i < m; ++i) {
+        const double l = lu_[i * m + k] / d;
+        lu_[i * m + k] = l;
+        for (std::size_t j = k + 1; j < m; ++j) lu_[i * m + j] -= l * lu_[k * m + j];
+      }
+    }
+    return true;
+  }
+  // b := W⁻¹ b (the first m entries).
+  void solve(double* b) const {
+    const std::size_t m = m_;
+    for (std::size_t k = 0; k < m; ++k) std::swap(b[k], b[pivot_[k]]);
+    for (std::size_t i = 1; i < m; ++i)
+      for (std::size_t j = 0; j < i; ++j) b[i] -= lu_[i * m + j] * b[j];
+    for (std::size_t i = m; i-- > 0;) {
+      for (std::size_t j = i + 1; j < m; ++j) b[i] -= lu_[i * m + j] * b[j];
+      b[i] /= lu_[i * m + i];
+    }
+  }
+
+  static constexpr double kSqrtEps = 1.4901161193847656e-08;  // √(2^-52)
+
+  std::size_t n_, m_;
+  std::vector<double> f0_, f_, y_, v_, jac_, lu_;
+  std::array<std::vector<double>, kStages> k_;
+  std::vector<std::size_t> pivot_;
+};
+
+}  // namespace hyfal
