@@ -42,6 +42,8 @@ class ModelPropagator final : public Propagator {
     const double* p;
     void operator()(const State& x, State& dx, double) const {
       model->flow(q, x.data(), u, p, dx.data());
+      if constexpr (requires { M::flowing_dim; })  // the flow need not write its frozen tail (model.hpp)
+        std::fill(dx.begin() + M::flowing_dim, dx.end(), 0.0);
     }
     void operator()(const double* x, double* dx) const { model->flow(q, x, u, p, dx); }
   };
@@ -543,8 +545,8 @@ class ModelPropagator final : public Propagator {
     const double left = end_t - t;
     double h = std::min(next_h_, left);
     bool cut = left < next_h_;  // shortened to end at end_t, not by the error
-    for (;;) {
-      ros_(field, x0_.data(), x1_.data(), h);
+    for (bool again = false;; again = true) {
+      ros_(field, x0_.data(), x1_.data(), h, again);
       const double err = ros_.error_norm(x0_.data(), x1_.data(), settings_.abs_tol, settings_.rel_tol);
       if (err <= 1.0) {
         const double grow = err > 0.0 ? std::min(5.0, 0.9 * std::pow(err, -1.0 / RosenbrockStep::kErrorOrder)) : 5.0;

@@ -1,6 +1,7 @@
 // ModelSystem<M>: the System interface over one concrete HybridModel (type erasure at the
 // granularity of a propagation, not of an RK stage).
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -36,6 +37,8 @@ class ModelSystem final : public System {
   void derivative(Mode q, std::span<const double> x, std::span<const double> u,
                   std::span<const double> p, std::span<double> dx) const override {
     model_.flow(q, x.data(), u.data(), p.data(), dx.data());
+    if constexpr (requires { M::flowing_dim; })  // the flow need not write its frozen tail (model.hpp)
+      std::fill(dx.begin() + M::flowing_dim, dx.end(), 0.0);
   }
   bool input_affine(Mode) const override {
     if constexpr (requires { M::input_affine; })

@@ -170,6 +170,17 @@ Witness make_witness(const System& system, std::string method, std::int64_t tria
   w.state_names = info.state_names;
   w.input_names = info.input_names;
   w.trajectory = std::move(trajectory);
+  if (info.sparse_witness_states) {
+    // States only where the input changes (and at the ends): the validator re-simulates every
+    // piece from its own state anyway, and compares the states that are recorded.
+    auto& pieces = w.trajectory.pieces;
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      const bool starts = i == 0 || pieces[i].u != pieces[i - 1].u;
+      const bool ends = i + 1 == pieces.size() || pieces[i].u != pieces[i + 1].u;
+      if (!starts) std::vector<double>().swap(pieces[i].x_start);
+      if (!ends) std::vector<double>().swap(pieces[i].x_end);
+    }
+  }
   if (info.requirement) w.requirement = WitnessRequirement{info.requirement->id, info.requirement->text, 0.0};
   return w;
 }
@@ -177,10 +188,13 @@ Witness make_witness(const System& system, std::string method, std::int64_t tria
 Json to_json(const Witness& w) {
   const Trajectory& t = w.trajectory;
   Json pieces = Json::array();
-  for (const auto& p : t.pieces)
-    pieces.push_back({{"mode", p.mode}, {"u", vec(p.u)}, {"duration", p.duration},
-                      {"x_start", vec(p.x_start)}, {"x_end", vec(p.x_end)},
-                      {"transition", p.transition}});
+  for (const auto& p : t.pieces) {
+    Json piece = {{"mode", p.mode}, {"u", vec(p.u)}, {"duration", p.duration}};
+    if (!p.x_start.empty()) piece["x_start"] = vec(p.x_start);  // not recorded: left out
+    if (!p.x_end.empty()) piece["x_end"] = vec(p.x_end);
+    piece["transition"] = p.transition;
+    pieces.push_back(std::move(piece));
+  }
   Json j = {{"format", "hyfal-witness/1"},
           {"suite", w.suite},
           {"instance", w.instance},
@@ -235,8 +249,9 @@ Witness witness_from_json(const Json& j) {
     p.u = numbers(pj, "u", where, m);
     p.duration = number_field(pj, "duration", where);
     if (!(p.duration >= 0.0)) throw WitnessError(fmt::format("witness: field '{}duration' must be >= 0", where));
-    p.x_start = numbers(pj, "x_start", where, n);
-    p.x_end = numbers(pj, "x_end", where, n);
+    // Optional (SystemInfo::sparse_witness_states): a piece may leave its states out.
+    if (pj.contains("x_start")) p.x_start = numbers(pj, "x_start", where, n);
+    if (pj.contains("x_end")) p.x_end = numbers(pj, "x_end", where, n);
     // -1: no transition at the end of the piece; otherwise a guard index of the piece's mode.
     p.transition = pj.contains("transition")
                        ? integer_field<int>(pj, "transition", where, -1, std::numeric_limits<int>::max())
@@ -384,7 +399,8 @@ Failure shape_mismatch(const System& system, const Witness& w) {
     const TrajectoryPiece& piece = t.pieces[i];
     if (!system.valid_mode(piece.mode))
       return fmt::format("pieces[{}].mode = {} is not a mode of suite '{}'", i, piece.mode, info.suite);
-    if (piece.x_start.size() != n || piece.x_end.size() != n)
+    const auto recorded = [n](const std::vector<double>& x) { return x.empty() || x.size() == n; };
+    if (!recorded(piece.x_start) || !recorded(piece.x_end))
       return fmt::format("piece {} has states of the wrong size", i);
     const std::size_t m = system.inputs(piece.mode).dim();
     if (piece.u.size() != m) return fmt::format("piece {}: u has {} values, U has {}", i, piece.u.size(), m);
@@ -528,16 +544,18 @@ Failure too_much_work(const Trajectory& t, double max_step) {
 }
 
 // Whether the piece's input lies in U, and (a driver model) is admissible at its x_start.
-Failure inadmissible_input(const System& system, Mode q, const TrajectoryPiece& piece, std::size_t i, double tol) {
+Failure inadmissible_input(const System& system, Mode q, const TrajectoryPiece& piece, std::size_t i, double tol,
+                           std::span<const double> simulated) {
   const InputSet& U = system.inputs(q);
   for (std::size_t k = 0; k < U.dim(); ++k)
     if (piece.u[k] < U.box.lo[k] - tol || piece.u[k] > U.box.hi[k] + tol)
       return fmt::format("piece {}: input {} = {} is outside U", i, k, piece.u[k]);
   if (!system.state_dependent_inputs()) return std::nullopt;
   // The recorded x_start (within tol of the re-simulation, checked before) is the state the
-  // method chose u at; a driver's bands are discontinuous, so it is the one to judge by.
+  // method chose u at; a driver's bands are discontinuous, so it is the one to judge by (the
+  // re-simulated state where none is recorded).
   std::vector<double> lo(U.dim()), hi(U.dim());
-  system.input_bounds(q, piece.x_start, lo, hi);
+  system.input_bounds(q, piece.x_start.empty() ? simulated : std::span<const double>(piece.x_start), lo, hi);
   for (std::size_t k = 0; k < U.dim(); ++k)
     if (piece.u[k] < lo[k] - tol || piece.u[k] > hi[k] + tol)
       return fmt::format("piece {}: input {} = {} is outside the admissible [{}, {}] at x_start", i, k, piece.u[k],
@@ -605,9 +623,9 @@ Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i, b
   if (piece.mode != run.q)
     return fmt::format("piece {} flows in mode {}, but the execution is in mode {}", i, system.mode_name(piece.mode),
                        system.mode_name(run.q));
-  if (const double e0 = check_start ? run.error_of(piece.x_start) : 0.0; e0 > run.tol)
+  if (const double e0 = check_start && !piece.x_start.empty() ? run.error_of(piece.x_start) : 0.0; e0 > run.tol)
     return fmt::format("piece {}: x_start differs from the re-simulated state by {:.3g}", i, e0);
-  if (Failure why = inadmissible_input(system, run.q, piece, i, run.tol)) return why;
+  if (Failure why = inadmissible_input(system, run.q, piece, i, run.tol, run.x)) return why;
   if (run.sampler) {
     if (i == 0) {  // the first sample, with the first piece's input (core/requirements/edge_monitor.hpp)
       run.sampler->begin(0.0, piece.u, run.p, run.rows);
@@ -617,7 +635,7 @@ Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i, b
   }
   if (Failure why = flow_through(run, piece, i)) return why;
   run.time += piece.duration;
-  if (const double e1 = check_end ? run.error_of(piece.x_end) : 0.0; e1 > run.tol)
+  if (const double e1 = check_end && !piece.x_end.empty() ? run.error_of(piece.x_end) : 0.0; e1 > run.tol)
     return fmt::format("piece {}: x_end differs from the re-simulated state by {:.3g}", i, e1);
   if (piece.transition >= 0) {  // a guard index of q (shape_mismatch checked it)
     const int k = piece.transition;
@@ -682,7 +700,8 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
   const Trajectory& t = w.trajectory;
   const auto fail = [&](std::string why) { r.reason = std::move(why); };
   for (std::size_t i = 0; i < t.pieces.size(); ++i)
-    if (Failure why = inadmissible_input(system, t.pieces[i].mode, t.pieces[i], i, system.info().witness_tolerance))
+    if (Failure why = inadmissible_input(system, t.pieces[i].mode, t.pieces[i], i, system.info().witness_tolerance,
+                                         t.pieces[i].x_start))
       return fail(std::move(*why));
   const stl::Requirement* req = system.info().requirement.get();
   if (!req) return fail("a model known only by its simulations is judged by an STL requirement; the instance has none");

@@ -2,7 +2,9 @@
 //
 // A piece is continuous flow in `mode` under constant `u` for `duration`; when `transition`
 // is >= 0 the urgent transition with that guard index fires at its end and its reset maps
-// x_end to the next piece's x_start (format hyfal-witness/1; see README).
+// x_end to the next piece's x_start (format hyfal-witness/1; see README). A piece's x_start and
+// x_end may be empty, not recorded (SystemInfo::sparse_witness_states; left out of the JSON): the
+// validator re-simulates such a piece from its own state and compares nothing there.
 #pragma once
 #include <cstdint>
 #include <optional>

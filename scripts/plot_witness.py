@@ -77,7 +77,8 @@ def read_witness(path):
         if not isinstance(w["suite"], str) or not isinstance(w["instance"], dict):
             raise TypeError("suite or instance")
         for k, piece in enumerate(w["pieces"]):
-            if len(piece["x_start"]) != dims or len(piece["x_end"]) != dims:
+            # A piece may leave its states out (a sparse witness, README "Witnesses").
+            if any(key in piece and len(piece[key]) != dims for key in ("x_start", "x_end")):
                 raise ValueError(f"piece {k}: state size differs from the initial state's {dims}")
         float(w["final"]["spec"])
     except (KeyError, TypeError, ValueError) as e:
@@ -166,11 +167,14 @@ def export_instance(hyfal, witness):
 
 def path_of(witness, ix, iy):
     """The (x, y) points of state dimensions ix, iy along the witness: the initial state, then each
-    piece's end; a jump that moves the state (x_start != the previous x_end) breaks the line (NaN)."""
+    piece's end; a jump that moves the state (x_start != the previous x_end) breaks the line (NaN).
+    Pieces whose states are left out (a sparse witness) add no point."""
     xs, ys = [witness["initial"]["x"][ix]], [witness["initial"]["x"][iy]]
     for piece in witness["pieces"]:
-        start, end = piece["x_start"], piece["x_end"]
-        if (start[ix], start[iy]) != (xs[-1], ys[-1]):
+        start, end = piece.get("x_start"), piece.get("x_end")
+        if end is None:
+            continue
+        if start is not None and (start[ix], start[iy]) != (xs[-1], ys[-1]):
             xs += [math.nan, start[ix]]
             ys += [math.nan, start[iy]]
         xs.append(end[ix])
@@ -383,7 +387,7 @@ def draw_state_plane(witness, tree=None):
         ax.set_xlabel(names[0] if len(names) > 0 else "x[0]")
         ax.set_ylabel(names[1] if len(names) > 1 else "x[1]")
     else:  # one state dimension: against the piece index
-        values = [witness["initial"]["x"][0]] + [p["x_end"][0] for p in witness["pieces"]]
+        values = [witness["initial"]["x"][0]] + [p["x_end"][0] for p in witness["pieces"] if "x_end" in p]
         ax.plot(range(len(values)), values, color="black", marker=".", label="witness path")
         ax.set_xlabel("piece")
         ax.set_ylabel(names[0] if names else "x[0]")

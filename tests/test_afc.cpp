@@ -336,6 +336,14 @@ TEST(Afc, AFalsifyingRunValidatesAsAWitness) {
   for (double u : {5, 50, 10, 45, 3, 60, 20, 0, 55, 8}) pieces.push_back({5.0, {u}});
   Trajectory t = stl::trajectory_of_inputs(*sys, pieces, sys->info().parameters);
   const Witness w = make_witness(*sys, "replay", 0, std::move(t));
+  // Sparse states (suites/afc/afc.cpp: every tick is a piece): only where the input changes.
+  std::size_t with_states = 0;
+  for (const TrajectoryPiece& piece : w.trajectory.pieces) with_states += !piece.x_start.empty() + !piece.x_end.empty();
+  const std::size_t bytes = to_json(w).dump().size();
+  std::printf("AFC29 witness: %zu pieces, %zu states recorded, %zu bytes of JSON\n", w.trajectory.pieces.size(),
+              with_states, bytes);
+  EXPECT_EQ(with_states, 20u);  // 10 pedal pieces: a start and an end each
+  EXPECT_LT(bytes, 1'000'000u);
   const auto start = std::chrono::steady_clock::now();
   const ValidationReport report = validate_witness(*sys, w);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -89,6 +89,33 @@ TEST(Witness, CorruptionsAreRejected) {
   EXPECT_THROW(witness_from_json(Json::parse("[1,2]")), WitnessError);
 }
 
+// A piece may leave its states out (SystemInfo::sparse_witness_states): the JSON omits them, the
+// witness still validates (re-simulated from the validator's own state), the states that are
+// recorded are still compared, and a state of the wrong size is still malformed.
+TEST(Witness, PiecesWithoutStatesAreReSimulated) {
+  auto sys = thermostat();
+  Trajectory t = *solve_thermostat(5).trajectory;
+  ASSERT_GE(t.pieces.size(), 3u);
+  t.pieces[1].x_start.clear();
+  t.pieces[1].x_end.clear();
+  const Json j = to_json(witness_of(*sys, t));
+  EXPECT_FALSE(j["pieces"][1].contains("x_start"));
+  EXPECT_FALSE(j["pieces"][1].contains("x_end"));
+  EXPECT_TRUE(j["pieces"][0].contains("x_end"));
+  const Witness back = witness_from_json(j);
+  EXPECT_TRUE(back.trajectory.pieces[1].x_end.empty());
+  const auto report = validate_witness(*sys, back);
+  EXPECT_TRUE(report.valid) << report.reason;
+  Trajectory moved = t;
+  moved.pieces[2].x_end[0] += 1e-3;
+  EXPECT_FALSE(validate_witness(*sys, witness_of(*sys, moved)).valid);
+  Trajectory wrong = t;
+  wrong.pieces[1].x_end = {1.0};
+  const auto bad = validate_witness(*sys, witness_of(*sys, wrong));
+  EXPECT_FALSE(bad.valid);
+  EXPECT_TRUE(bad.malformed);
+}
+
 std::vector<TrialJob> thermostat_jobs(int n, const MethodEntry* method) {
   auto sys = thermostat();
   std::vector<TrialJob> jobs;

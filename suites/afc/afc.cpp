@@ -103,7 +103,7 @@ constexpr double kTickLead = 1e-6;  // ticks fire this much early (header, 5)
 constexpr double kPieceLength = 5.0;
 constexpr int kSlots = 40;          // delay register: samples at the last 40 ticks (header, 6)
 constexpr double kInitialOutput = 14.7;
-constexpr double kRk4Step = 1e-4, kRosFirstStep = kTick;  // the integrators' default steps (header, 7)
+constexpr double kRk4Step = 1e-4, kRosFirstStep = 0.005;  // the integrators' default steps (header, 7)
 
 class Afc {
  public:
@@ -167,8 +167,7 @@ class Afc {
     dx[kAf1] = 10.0 * (delayed(x) - x[kAf1]);
     dx[kAf] = 50.0 * (x[kAf1] - x[kAf]);
     dx[kTime] = 1.0;
-    dx[kClock] = 1.0;
-    std::fill(dx + kPhat, dx + kDim, 0.0);
+    dx[kClock] = 1.0;  // dx from kPhat on is 0 (flowing_dim): the callers write it
   }
 
   int guard_count(Mode) const { return 1; }
@@ -345,6 +344,7 @@ std::shared_ptr<const System> make_afc(const Json& instance) {
   info.integrator.abs_tol = info.integrator.rel_tol = tolerance;
   info.integrator.interpolation = StepInterpolation::hermite;
   info.witness_tolerance = 1e-3;
+  info.sparse_witness_states = true;  // every tick is a transition (header, 7)
   return std::make_shared<ModelSystem<Afc>>(Afc(horizon, lo, hi), std::move(info));
 }
 
