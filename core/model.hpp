@@ -114,8 +114,11 @@ struct InputSet {
 };
 
 // rk4: classical fixed-step RK4 (core/rk4.hpp); dopri5: adaptive Dormand-Prince 5 with dense
-// output; rosenbrock: fixed-step ROS34PW2 (core/rosenbrock.hpp), linearly implicit and L-stable, for a
-// stiff flow. The fixed-step kinds share `step`, `interpolation` and event location.
+// output; rosenbrock: ROS34PW2 (core/rosenbrock.hpp), linearly implicit and L-stable, for a stiff
+// flow, with step-size control to abs_tol and rel_tol from a first step `step` (every propagation
+// starts there: no step size is carried from one to the next) up to max_step (a fixed step when
+// the tolerances are too loose to reject any and max_step = step). RK4 and ROS34PW2 share
+// `interpolation` and event location.
 enum class IntegratorKind { rk4, dopri5, rosenbrock };
 
 // RK4 and ROS34PW2: the states inside a step, where events are located (dopri5 always uses its dense

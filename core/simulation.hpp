@@ -1,9 +1,10 @@
 // Simulation of one hybrid model: fixed-step RK4 (core/rk4.hpp: odeint's runge_kutta4, step for
-// step and bit for bit), fixed-step Rosenbrock-W ROS34PW2 for stiff flows (core/rosenbrock.hpp), or Boost.Odeint's
-// adaptive Dormand-Prince 5 with dense output, event
-// detection by sign change of a guard within a step and localization with Boost.Math toms748
-// (seed 002 Alg. 3); for the fixed steps optionally on the step's Hermite interpolant with a regula falsi, or
-// Newton's method where the guards are affine (StepInterpolation::hermite, model.hpp).
+// step and bit for bit), the Rosenbrock-W method ROS34PW2 with step-size control for stiff flows
+// (core/rosenbrock.hpp, rosenbrock_step_to), or Boost.Odeint's adaptive Dormand-Prince 5 with
+// dense output; event detection by sign change of a guard within a step and localization with
+// Boost.Math toms748 (seed 002 Alg. 3); for RK4 and ROS34PW2 optionally on the step's Hermite
+// interpolant with a regula falsi, or Newton's method where the guards are affine
+// (StepInterpolation::hermite, model.hpp).
 //
 // The model is a template parameter, so every RK stage calls M::flow directly. All buffers
 // are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).
@@ -205,7 +206,7 @@ class ModelPropagator final : public Propagator {
     const FlowField field{&model_, q, u.data(), p.data()};
     const double t_eps = 1e-12 * std::max(1.0, std::abs(duration));
     std::int64_t steps = 0;
-    if (fixed_step()) {
+    if (own_stepper()) {
       double t = 0.0;
       next_h_ = settings_.step;
       while (duration - t > t_eps) {
@@ -264,11 +265,12 @@ class ModelPropagator final : public Propagator {
     return true;
   }
 
-  bool hermite() const { return fixed_step() && settings_.interpolation == StepInterpolation::hermite; }
-  bool fixed_step() const { return settings_.kind != IntegratorKind::dopri5; }
-  // One fixed step of length h from x (RK4 or ROS34PW2), and the flow at its start.
+  bool hermite() const { return own_stepper() && settings_.interpolation == StepInterpolation::hermite; }
+  // RK4 and ROS34PW2 are stepped here (dopri5 by odeint's dense stepper).
+  bool own_stepper() const { return settings_.kind != IntegratorKind::dopri5; }
+  // One step of length h from x (RK4 or ROS34PW2, no error control), and the flow at its start.
   template <class Flow>
-  void step_fixed(const Flow& field, const double* x, double* out, double h) {
+  void one_step(const Flow& field, const double* x, double* out, double h) {
     if (settings_.kind == IntegratorKind::rosenbrock)
       ros_(field, x, out, h);
     else
@@ -299,12 +301,12 @@ class ModelPropagator final : public Propagator {
         return;
       }
     }
-    if (fixed_step()) {
+    if (own_stepper()) {
       if (tau <= t) {
         std::copy(x0_.begin(), x0_.end(), xs.begin());
         return;
       }
-      step_fixed(field, x0_.data(), xs.data(), tau - t);
+      one_step(field, x0_.data(), xs.data(), tau - t);
     } else {
       dense_.calc_state(tau, xs);
     }
@@ -514,13 +516,13 @@ class ModelPropagator final : public Propagator {
     }
   }
 
-  // One integration step from (t, x0_) to t1 (at most `end_t`), into x1_. RK4, ROS34PW2: a fixed
-  // step; dopri5: the dense stepper's next step, cut at end_t.
+  // One integration step from (t, x0_) to t1 (at most `end_t`), into x1_. RK4: a fixed step;
+  // ROS34PW2: a step its error control accepts; dopri5: the dense stepper's next step, cut at end_t.
   double step_to(const FlowField& field, double t, double end_t) {
     if (settings_.kind == IntegratorKind::rosenbrock) return rosenbrock_step_to(field, t, end_t);
-    if (fixed_step()) {
+    if (own_stepper()) {
       const double h = std::min(settings_.step, end_t - t);
-      step_fixed(field, x0_.data(), x1_.data(), h);
+      one_step(field, x0_.data(), x1_.data(), h);
       step_h_ = h;
       return t + h;
     }

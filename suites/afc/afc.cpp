@@ -67,20 +67,32 @@
 //     that instant (Simulink's first sample is t = 0; the difference is 1 ms of start-up, when mu is
 //     0 and the loop is open). 137 state components: each RK4 step runs its 5 vector loops over all
 //     of them.
-//  7. Integrator: RK4 at a fixed step `integration_step` (default 1e-4 s: 100 steps per tick). The
-//     Pm equation is stiff near wide-open throttle (§8: λ ≈ -0.41328 · 2 f(θ)² / ṁ_c; -11,500 1/s at
-//     θ = 70° and 1000 rpm, -22,000 1/s at θ = 90° and 900 rpm): RK4 is stable for |hλ| <= 2.785, so
-//     the power range (θ up to 90°) needs h <= 1.27e-4; the normal range (θ < 70°) h <= 2.1e-4.
-//     Measured (tests/test_afc.cpp, bench/bench_afc.cpp, Release, this 2-core machine): at 1e-4 max
-//     |mu - mu_dopri5(1e-10)| at the ticks 3.5e-6 (AFC29-like) and 4.2e-6 (AFC33-like); 2e-4 runs the
-//     normal range (2.4e-6) but blows up in the power range; 2.5e-4 blows up in both. One 50 s
-//     simulation takes ~295 ms CPU (BM_SimulateAfc; target 1 ms: ~300x over; an implicit or
-//     quasi-steady Pm treatment, §8, is the way to the target, not part of step 1).
+//  7. Integrator: ROS34PW2 (core/rosenbrock.hpp: linearly implicit, L-stable, third order, with
+//     its embedded second-order solution for step-size control; `integrator`, default ros34pw2),
+//     tolerance 1e-7 absolute and relative (`tolerance`), steps of at most 0.01 s, every
+//     propagation starting at 5 ms (`integration_step`). Why implicit: the Pm equation is stiff
+//     near wide-open throttle (§8: λ ≈ -0.41328 · 2 f(θ)² / ṁ_c; -11,500 1/s at θ = 70° and 1000
+//     rpm, -22,000 1/s at θ = 90° and 900 rpm): explicit RK4 is stable for |hλ| <= 2.785 only, so
+//     the power range needs h <= 1.27e-4 (500,000 steps, ~300 ms a simulation; still offered:
+//     `integrator = rk4`, `integration_step` its fixed step, default 1e-4, dividing 0.01 s).
+//     flowing_dim: the controller's states and the delay register only jump, so ROS34PW2
+//     integrates 8 of the 137 components and its Jacobian (forward differences) is 8 × 8. Measured
+//     (tests/test_afc.cpp, bench/bench_afc.cpp, Release, this 2-core machine): max |mu -
+//     mu_dopri5(1e-10)| at the ticks 1.2e-5 (AFC29-like) and 7.7e-6 (AFC33-like), RK4 at 1e-4
+//     3.5e-6 and 4.2e-6; about 2.5 accepted steps and one rejected step per tick (the rejected one
+//     spans the delayed fuel command's jump, item 6); BM_SimulateAfc ~21 ms against RK4's ~300 ms
+//     (target 1 ms: missed; what is left is per tick: the located transition, the register's shift
+//     and two or three steps of 4 stages and 8 Jacobian columns each). A Jacobian of the Pm column
+//     alone (a W-method keeps its order with any Jacobian) was 15 % faster and 3.4e-5 off: not
+//     taken. Sensitivity: at tolerance 1e-6 the AFC33-like case is 0.02 off for one tick: its pedal
+//     61.2 enters power mode when single(θ) first rounds to 70 (item 1), which an error of 1e-6 in
+//     x_θ moves by a tick; the default 1e-7 enters it at the export's tick (1.66 s).
 //     Against the Simulink Coder export's traces (sim2cpp, fixed step 2.5e-5): |mu - ref| <= 7.6e-5,
-//     max |mu| on [11, 50] within 8.4e-6, the same modes at every 0.05 s sample (5 traces).
-//  Witnesses: every tick is a transition, so a 50 s witness has 5,011 pieces with 137-component
-//     states (~33 MB of JSON). witness_tolerance 1e-3: the validator's dopri5 (1e-12) re-simulates
-//     the AFC29-like run within 1.1e-4 and the random search's witnesses within 2.1e-4.
+//     max |mu| on [11, 50] within 8.3e-6, the same modes at every 0.05 s sample (5 traces).
+//  Witnesses: every tick is a transition, so a 50 s witness has 5,011 pieces; it records the
+//     137-component states only where the pedal changes (SystemInfo::sparse_witness_states: 20
+//     states, ~390 KB of JSON, against 33 MB with every piece's). witness_tolerance 1e-3: the
+//     validator's dopri5 (1e-12) re-simulates the AFC29-like run within 2.3e-7 at its recorded states.
 //  8. Reachability (no requirement): AFC29's violation set, s = max(0.007 - |mu|, 11 - t).
 //  9. Tree methods (not tuned): x_rand over the physical states, metric over (Pm, m_p, AF, t).
 #include <algorithm>
@@ -368,7 +380,7 @@ SuiteEntry afc_suite() {
             "ros34pw2|rk4"},
            {"integration_step", 0.0,
             "s; rk4: the fixed step, dividing 0.01 s; ros34pw2: the first step of every propagation; 0: the "
-            "integrator's default (rk4 1e-4, ros34pw2 0.01)",
+            "integrator's default (rk4 1e-4, ros34pw2 0.005)",
             "[0, 0.01]"},
            {"tolerance", 1e-7, "ros34pw2: absolute and relative error tolerance of a step", "(0, 1)"}},
           make_afc};
