@@ -332,6 +332,14 @@ struct SystemInfo {
   // tick (AFC: 5,011 pieces of 137 states, 33 MB of JSON otherwise). The validator re-simulates
   // every piece all the same, and compares the states recorded.
   bool sparse_witness_states = false;
+  // The validator replays a witness with the suite's own simulator: it re-runs its input signal,
+  // cut into the pieces of δt a search simulates (held inputs only), and judges the requirement on
+  // that run, as ARCH-COMP's organisers re-run Simulink. Instead of the independent tight
+  // re-simulation, for a closed loop that is chaotic at the level of rounding, where no other
+  // integrator follows the search's run for long (NN: a change of 1e-15 in the initial position
+  // grows past 1e-3 within 6 s, suites/nn/nn.cpp). A replay shows that the model as the suite
+  // integrates it falsifies, not that the falsification survives another integration.
+  bool validation_by_replay = false;
   // STL: the output signals (values from M::outputs, in this order), the inputs' units (empty, or
   // one per input), the requirements the suite declares, and the one this instance falsifies
   // (null: reachability of s <= 0; set from the `requirement` instance parameter).

@@ -696,6 +696,25 @@ Failure trace_violation(Replay& run, const Witness& w, ValidationReport& r) {
 // A signal model's witness (System::signal_model: no states to re-simulate): its inputs in U,
 // then its requirement judged on the model's own simulation of the witness's input signal, run
 // again (the only independent check a black box admits).
+// The witness's held input signal cut into the pieces of δt that a search simulates
+// (SignalSimulations: pieces of exactly δt from 0; a tree's edges: the same grid), each holding the
+// witness's input at its midpoint, up to the witness's length (SystemInfo::validation_by_replay).
+std::vector<stl::InputPiece> input_signal_on_grid(const System& system, const Trajectory& t) {
+  const double dt = system.info().step_duration;
+  double total = 0.0;
+  for (const TrajectoryPiece& piece : t.pieces) total += piece.duration;
+  const auto n = static_cast<std::size_t>(std::max(0.0, std::ceil(total / dt - 1e-9)));
+  std::vector<stl::InputPiece> pieces;
+  std::size_t i = 0;
+  double piece_end = t.pieces.empty() ? 0.0 : t.pieces[0].duration;
+  for (std::size_t k = 0; k < n && !t.pieces.empty(); ++k) {
+    const double mid = (static_cast<double>(k) + 0.5) * dt;
+    while (i + 1 < t.pieces.size() && piece_end <= mid) piece_end += t.pieces[++i].duration;
+    pieces.push_back({dt, t.pieces[i].u});
+  }
+  return pieces;
+}
+
 void validate_by_simulation(const System& system, const Witness& w, ValidationReport& r) {
   const Trajectory& t = w.trajectory;
   const auto fail = [&](std::string why) { r.reason = std::move(why); };
@@ -704,12 +723,19 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
                                          t.pieces[i].x_start))
       return fail(std::move(*why));
   const stl::Requirement* req = system.info().requirement.get();
-  if (!req) return fail("a model known only by its simulations is judged by an STL requirement; the instance has none");
+  const bool replay = system.info().validation_by_replay && !system.signal_model();
+  if (!req)
+    return fail(replay ? "a witness replayed with the suite's own simulator is judged by an STL requirement; the instance has none"
+                       : "a model known only by its simulations is judged by an STL requirement; the instance has none");
+  if (replay && t.linear_input) return fail("a replayed witness holds its input on pieces of δt; this one declares a linear signal");
   if (!w.requirement) return fail("the instance has an STL requirement, but the witness records none");
   if (w.requirement->formula != req->text)
     return fail(fmt::format("the witness's requirement '{}' is not its instance's '{}'", w.requirement->formula, req->text));
   std::vector<stl::InputPiece> pieces;
-  for (const TrajectoryPiece& piece : t.pieces) pieces.push_back({piece.duration, piece.u});
+  if (replay)
+    pieces = input_signal_on_grid(system, t);
+  else
+    for (const TrajectoryPiece& piece : t.pieces) pieces.push_back({piece.duration, piece.u});
   try {
     stl::InputSimulator simulator(system);
     const stl::SimulatedTrace& trace = simulator.run(pieces, t.parameters);
@@ -723,8 +749,11 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
     return fail(fmt::format("the model failed to simulate the witness's input: {}", e.what()));
   }
   r.valid = true;
-  r.reason = fmt::format("valid: the model simulated the {} pieces again, robustness {:.6g} over {} samples", t.pieces.size(),
-                         *r.robustness, r.samples);
+  r.reason = replay ? fmt::format("valid: replayed with the suite's own simulator (validation_by_replay), {} input pieces "
+                                  "of {:.6g} s, robustness {:.6g} over {} samples",
+                                  pieces.size(), system.info().step_duration, *r.robustness, r.samples)
+                    : fmt::format("valid: the model simulated the {} pieces again, robustness {:.6g} over {} samples",
+                                  t.pieces.size(), *r.robustness, r.samples);
 }
 
 }  // namespace
@@ -741,7 +770,7 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
     return fail(std::move(*why));
   }
   if (Failure why = outside_the_system(system, t)) return fail(std::move(*why));
-  if (system.signal_model()) {
+  if (system.signal_model() || system.info().validation_by_replay) {
     validate_by_simulation(system, w, r);
     return r;
   }

@@ -47,6 +47,7 @@ const std::vector<SuiteEntry>& all_suites() {
         cc_suite(),
         f16_suite(),
         afc_suite(),
+        nn_suite(),
     };
     for (auto& s : all) s = with_requirement_parameter(std::move(s));
     return all;

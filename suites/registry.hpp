@@ -19,6 +19,7 @@ SuiteEntry at_suite();
 SuiteEntry cc_suite();
 SuiteEntry f16_suite();
 SuiteEntry afc_suite();
+SuiteEntry nn_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 // A resolved instance as its key: the parameters at their unkeyed value (OptionSpec::unkeyed_value:

@@ -266,7 +266,7 @@ TEST_F(ExperimentCliTest, TheArchLeagueRunsEveryRowWithEveryMethod) {
   EXPECT_TRUE(contains(r.out, "| ATc2 |")) << r;
   EXPECT_TRUE(fs::exists(work() / "out" / "arch-fals.md"));
   EXPECT_TRUE(fs::exists(work() / "out" / "arch-fals.csv"));
-  // 4 rows x 6 methods x 2 runs; every falsifying run's witness validated.
+  // Every falsifying run's witness validated.
   const SqlResult counts = sql(work() / "db.sqlite",
                                "SELECT count(*), count(DISTINCT method), sum(status = 'falsified'), "
                                "sum(status = 'falsified' AND validated = 1) FROM trials");
@@ -280,10 +280,12 @@ TEST_F(ExperimentCliTest, TheArchLeagueRunsEveryRowWithEveryMethod) {
   };
   const std::vector<std::string> f = fields(counts.text);
   ASSERT_EQ(f.size(), 4u) << counts.text;
-  EXPECT_EQ(f[0], "90");  // 4 rows x 10 columns x 2 runs, and F16's 5 columns that apply x 2 runs
+  EXPECT_EQ(f[0], "130");  // 6 rows (AT2, AT6a, CC1, ATc2, AFC29, NN) x 10 columns x 2 runs, and F16's 5 columns x 2
   EXPECT_EQ(f[1], "9");   // RRT twice (guided; guided and refined)
   // F16 has no inputs: the methods that search only input signals do not apply there.
   EXPECT_TRUE(contains(r.out, "| F16 (2338 ft) | f16 | n/a | n/a |")) << r;
+  EXPECT_TRUE(contains(r.out, "| AFC29 | afc |")) << r;
+  EXPECT_TRUE(contains(r.out, "| NN | nn |")) << r;
   EXPECT_NE(f[2], "0") << "the smoke rows are easy enough that some run falsifies";
   EXPECT_EQ(f[2], f[3]) << "every falsifying run's witness validates";
 }
