@@ -80,7 +80,7 @@
 //     (tests/test_afc.cpp, bench/bench_afc.cpp, Release, this 2-core machine): max |mu -
 //     mu_dopri5(1e-10)| at the ticks 1.2e-5 (AFC29-like) and 7.7e-6 (AFC33-like), RK4 at 1e-4
 //     3.5e-6 and 4.2e-6; about 2.5 accepted steps and one rejected step per tick (the rejected one
-//     spans the delayed fuel command's jump, item 6); BM_SimulateAfc ~21 ms against RK4's ~300 ms
+//     spans the delayed fuel command's jump, item 6); BM_SimulateAfc 24 ms against RK4's 283 ms
 //     (target 1 ms: missed; what is left is per tick: the located transition, the register's shift
 //     and two or three steps of 4 stages and 8 Jacobian columns each). A Jacobian of the Pm column
 //     alone (a W-method keeps its order with any Jacobian) was 15 % faster and 3.4e-5 off: not
