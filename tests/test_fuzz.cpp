@@ -5,7 +5,8 @@
 //      starting from the committed corpus tests/fuzz_corpus/*.json (real witnesses of small
 //      instances, made with `hyfal run --suite S --method M --trials 1 --witness-dir D`, e.g.
 //      thermostat/rrt, example31/rrt, navigation n=2/hydice and n=4/rrt, aircraft
-//      esposito5/rrft); mutations: bytes, number tokens (huge, negative, NaN text, 1e999),
+//      esposito5/rrft; nnx-cmaes-sparse: NNx at horizon 3 by CMA-ES, its states left out where
+//      the input holds, validated by replay); mutations: bytes, number tokens (huge, negative, NaN text, 1e999),
 //      deleted members, swapped types, truncated and duplicated arrays, random modes,
 //      transitions and durations. Plus synthetic witnesses for every suite (its default
 //      instance), so that every model's valid_mode is exercised.
