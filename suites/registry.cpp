@@ -48,6 +48,7 @@ const std::vector<SuiteEntry>& all_suites() {
         f16_suite(),
         afc_suite(),
         nn_suite(),
+        sc_suite(),
     };
     for (auto& s : all) s = with_requirement_parameter(std::move(s));
     return all;

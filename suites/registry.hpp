@@ -20,6 +20,7 @@ SuiteEntry cc_suite();
 SuiteEntry f16_suite();
 SuiteEntry afc_suite();
 SuiteEntry nn_suite();
+SuiteEntry sc_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 // A resolved instance as its key: the parameters at their unkeyed value (OptionSpec::unkeyed_value:

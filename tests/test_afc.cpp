@@ -26,6 +26,7 @@
 #include "core/trajectory.hpp"
 #include "suites/afc/afc_plant.hpp"
 #include "suites/registry.hpp"
+#include "csv_support.hpp"
 
 namespace hyfal {
 namespace {
@@ -134,24 +135,9 @@ struct RefTrace {
   std::vector<double> t, af, mu, mode, pm;
 };
 RefTrace read_reference(const std::string& name) {
-  std::ifstream in(data_dir() + name);
-  EXPECT_TRUE(in) << name;
-  RefTrace r;
-  std::string line;
-  std::getline(in, line);
-  EXPECT_EQ(line, "time,pedal,engine,AF,AFref,mu,mode,Pm");
-  while (std::getline(in, line)) {
-    std::vector<double> v;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
-    if (v.size() != 8) continue;
-    r.t.push_back(v[0]);
-    r.af.push_back(v[3]);
-    r.mu.push_back(v[5]);
-    r.mode.push_back(v[6]);
-    r.pm.push_back(v[7]);
-  }
-  return r;
+  const hyfal_csv_test::CsvColumns c =
+      hyfal_csv_test::read_csv_columns(data_dir() + name, "time,pedal,engine,AF,AFref,mu,mode,Pm");
+  return {c["time"], c["AF"], c["mu"], c["mode"], c["Pm"]};
 }
 
 // §11's steady operating points (bisection on ṁ_th(θ, Pm) = 0.9 pump(Pm, ω), the notes' method): a

@@ -31,10 +31,10 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   ASSERT_NE(t, nullptr);
   ASSERT_TRUE(t->league.has_value());
   const TableLeague& l = *t->league;
-  EXPECT_EQ(l.rows.size(), 43u);
+  EXPECT_EQ(l.rows.size(), 45u);
   EXPECT_EQ(l.columns.size(), 10u);
   EXPECT_EQ(l.columns[9].method, "rrft");
-  EXPECT_EQ(l.rows.back().suite, "nn");
+  EXPECT_EQ(l.rows.back().suite, "sc");
   EXPECT_EQ(l.columns[6].method, "adaptive");
   EXPECT_EQ(l.columns[7].method, "adaptive-local");
   EXPECT_EQ(setting(l.columns[8].settings, "input_refinement"), "2");
@@ -46,7 +46,7 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   EXPECT_EQ(setting(l.columns.front().settings, "robustness_bias"), "0.5");
   EXPECT_EQ(l.published.size(), 8u);
   EXPECT_EQ(t->quick.trials, 10);
-  EXPECT_EQ(t->quick.row_labels.size(), 34u);
+  EXPECT_EQ(t->quick.row_labels.size(), 36u);
   EXPECT_EQ(setting(t->quick.settings, "budget"), "1500");
   ASSERT_TRUE(t->full && t->published);
   EXPECT_EQ(t->full->trials, 50);

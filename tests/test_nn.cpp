@@ -27,6 +27,7 @@
 #include "core/requirements/simulate.hpp"
 #include "core/trajectory.hpp"
 #include "suites/registry.hpp"
+#include "csv_support.hpp"
 
 namespace hyfal {
 namespace {
@@ -101,22 +102,8 @@ struct Reference {
   std::vector<stl::InputPiece> pieces;  // Ref as zlscheck held it, up to 40 s
 };
 Reference read_reference(const std::string& name) {
-  std::ifstream in(data_dir() + name);
-  EXPECT_TRUE(in) << name;
-  Reference r;
-  std::string line;
-  std::getline(in, line);
-  EXPECT_EQ(line, "time,Ref,Pos,NNPos,rob");
-  while (std::getline(in, line)) {
-    std::vector<double> v;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
-    if (v.size() != 5) continue;
-    r.t.push_back(v[0]);
-    r.ref.push_back(v[1]);
-    r.pos.push_back(v[2]);
-    r.rob.push_back(v[4]);
-  }
+  const hyfal_csv_test::CsvColumns c = hyfal_csv_test::read_csv_columns(data_dir() + name, "time,Ref,Pos,NNPos,rob");
+  Reference r{c["time"], c["Ref"], c["Pos"], c["rob"], {}};
   // Pieces: Ref changes at zlscheck's rows (its float clock puts some at 3.001 s, not 3 s).
   double start = 0.0;
   for (std::size_t i = 1; i <= r.t.size(); ++i) {
