@@ -34,18 +34,7 @@ class NullSink final : public SampleSink {
 
 void BM_SimulateNn(benchmark::State& state) {
   const auto sys = suite_instance("nn");
-  const stl::Requirement req = stl::resolve_requirement(sys->info(), "NN");
-  stl::InputSimulator simulator(*sys);
-  stl::TraceMonitor monitor(req);
-  const auto in = pieces();
-  double rho = 0.0;
-  for (auto _ : state) {
-    rho = monitor.robustness(simulator.run(in, sys->info().parameters));
-    benchmark::DoNotOptimize(rho);
-  }
-  state.SetItemsProcessed(state.iterations());
-  state.counters["samples"] = static_cast<double>(simulator.trace().samples());
-  state.counters["robustness"] = rho;
+  simulate_with_robustness(state, *sys, "NN", pieces());
 }
 BENCHMARK(BM_SimulateNn)->MinTime(2.0)->Unit(benchmark::kMillisecond);
 

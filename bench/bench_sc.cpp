@@ -10,8 +10,6 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
-#include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
 
 namespace hyfal::bench {
 namespace {
@@ -27,22 +25,12 @@ std::vector<stl::InputPiece> pieces() {
 
 void BM_SimulateSc(benchmark::State& state) {
   const auto sys = suite_instance("sc");
-  const stl::Requirement req = stl::resolve_requirement(sys->info(), "SC");
-  stl::InputSimulator simulator(*sys);
-  stl::TraceMonitor monitor(req);
   const auto in = pieces();
   if (in.size() != 175) {
     state.SkipWithError("tests/data/sc/selfmade_pattern_175x0.2s_max_P.txt not found");
     return;
   }
-  double rho = 0.0;
-  for (auto _ : state) {
-    rho = monitor.robustness(simulator.run(in, sys->info().parameters));
-    benchmark::DoNotOptimize(rho);
-  }
-  state.SetItemsProcessed(state.iterations());
-  state.counters["samples"] = static_cast<double>(simulator.trace().samples());
-  state.counters["robustness"] = rho;
+  simulate_with_robustness(state, *sys, "SC", in);
 }
 BENCHMARK(BM_SimulateSc)->MinTime(2.0)->Unit(benchmark::kMillisecond);
 

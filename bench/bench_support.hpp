@@ -11,6 +11,8 @@
 #include <benchmark/benchmark.h>
 
 #include "core/options.hpp"
+#include "core/requirements/requirement.hpp"
+#include "core/requirements/simulate.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal::bench {
@@ -45,6 +47,24 @@ inline std::shared_ptr<const System> thermostat(
 inline void report_time_per(benchmark::State& state, const char* name, double count) {
   state.counters[name] =
       benchmark::Counter(count, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// What an optimiser pays per simulation of a suite's instance: its input signal through
+// stl::InputSimulator (every signal sampled at every integration step and at both sides of every
+// jump) and the robustness of the requirement `requirement_id`. Items are simulations.
+inline void simulate_with_robustness(benchmark::State& state, const System& sys, const std::string& requirement_id,
+                                     const std::vector<stl::InputPiece>& pieces) {
+  const stl::Requirement req = stl::resolve_requirement(sys.info(), requirement_id);
+  stl::InputSimulator simulator(sys);
+  stl::TraceMonitor monitor(req);
+  double rho = 0.0;
+  for (auto _ : state) {
+    rho = monitor.robustness(simulator.run(pieces, sys.info().parameters));
+    benchmark::DoNotOptimize(rho);
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["samples"] = static_cast<double>(simulator.trace().samples());
+  state.counters["robustness"] = rho;
 }
 
 }  // namespace hyfal::bench
