@@ -143,9 +143,8 @@ class Sc {
     return (out + 1.0) * (sc::kOutMax - sc::kOutMin) / 2.0 + sc::kOutMin;
   }
 
-  // The heat duty Q (kW) at (P, T, Fcw).
-  static double heat_duty(const double* x) {
-    const double tc = lookup(sc::kTableTc, x[kP]);
+  // The heat duty Q (kW) at (P, T, Fcw), tc = Tc(P).
+  static double heat_duty(const double* x, double tc) {
     const double dtm = (x[kT] - sc::kTcw) / std::log((tc - sc::kTcw) / (tc - x[kT]));
     return dtm / (sc::kUa1 * std::pow(x[kFcw], -0.8) + sc::kUa2);
   }
@@ -154,7 +153,7 @@ class Sc {
     double a[3];
     const double command = std::clamp(network(q, x, a) + sc::kFcw0, sc::kSatLo, sc::kSatHi);
     const double tc = lookup(sc::kTableTc, x[kP]);
-    const double q_duty = heat_duty(x);
+    const double q_duty = heat_duty(x, tc);
     dx[kP] = (sc::kR / sc::kV) * (u[0] - q_duty / lookup(sc::kTableLambda, x[kP])) * tc;
     dx[kT] = (q_duty / sc::kCp + x[kFcw] * (sc::kTcw - x[kT])) / sc::kMcw;
     dx[kPm] = (x[kP] - x[kPm]) / (sc::kTau / 2.0);
@@ -181,7 +180,7 @@ class Sc {
   void outputs(Mode, const double* x, const double*, const double*, double* y) const {
     y[0] = x[kT];
     y[1] = x[kFcw];
-    y[2] = heat_duty(x);
+    y[2] = heat_duty(x, lookup(sc::kTableTc, x[kP]));
     y[3] = x[kPm];
   }
   std::string mode_name(Mode q) const { return q == 0 ? "setpoint 90" : "setpoint 87"; }
