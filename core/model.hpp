@@ -39,6 +39,10 @@
 //    ModelSystem::derivative and the odeint stepper's field write them, and the fixed steppers'
 //    buffers are never written there); ROS34PW2 integrates the first n components only and carries
 //    the rest (its Jacobian is n × n); RK4 and dopri5 integrate them all (at flow 0).
+//    Optional: `static constexpr std::array<int, K> flow_unread = {...};` the components the flow
+//    never reads in any mode (time, clocks): ROS34PW2 then sets their Jacobian columns to 0 instead
+//    of differencing the flow (a declaration that is wrong gives a wrong Jacobian, which a W-method
+//    survives with a larger error; core/rosenbrock.hpp).
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the

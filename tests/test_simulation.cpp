@@ -22,6 +22,7 @@
 #include "core/options.hpp"
 #include "core/planner.hpp"
 #include "core/root_bracket.hpp"
+#include "core/rosenbrock.hpp"
 #include "core/system.hpp"
 #include "suites/registry.hpp"
 
@@ -256,6 +257,80 @@ TEST(Integration, Ros34pw2AdaptsItsStep) {
   EXPECT_LT(errors[1], 1e-6);
   EXPECT_LT(errors[1], errors[0] / 30.0);
   EXPECT_GT(steps[1], 3.0 * steps[0]);
+}
+
+// The sparse factorization and substitutions (core/rosenbrock.hpp skips exact zeros) against the
+// same step in a rotated basis, where every entry of J is nonzero: a linear flow x' = A x with A
+// sparse and W's first pivot small, so that partial pivoting swaps rows (W = I - γ h A with
+// h = 1: |W_00| = 1 against |W_10| = 4.4). With y = Q x (Q a rotation) the step of y' = Q A Qᵀ y is
+// Q times the step of x (a Rosenbrock step is linear in its stages when f is linear); the forward-
+// difference Jacobians differ by rounding only, ~1e-8 relative.
+TEST(Integration, Ros34pw2SparseStepMatchesTheDenseRotatedOne) {
+  constexpr int n = 4;
+  const double a[n][n] = {{0.0, 0.0, 3.0, 0.0}, {-10.0, -1.0, 0.0, 0.0}, {0.0, 2.0, -50.0, 0.0}, {0.0, 0.0, 7.0, -0.5}};
+  double q[n][n];  // a product of two plane rotations: dense
+  const double c1 = std::cos(0.7), s1 = std::sin(0.7), c2 = std::cos(1.1), s2 = std::sin(1.1);
+  const double r1[n][n] = {{c1, -s1, 0, 0}, {s1, c1, 0, 0}, {0, 0, c1, -s1}, {0, 0, s1, c1}};
+  const double r2[n][n] = {{c2, 0, -s2, 0}, {0, c2, 0, -s2}, {s2, 0, c2, 0}, {0, s2, 0, c2}};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      q[i][j] = 0.0;
+      for (int k = 0; k < n; ++k) q[i][j] += r1[i][k] * r2[k][j];
+    }
+  double b[n][n];  // Q A Qᵀ
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      b[i][j] = 0.0;
+      for (int k = 0; k < n; ++k)
+        for (int l = 0; l < n; ++l) b[i][j] += q[i][k] * a[k][l] * q[j][l];
+    }
+  const auto linear = [](const double (&m)[n][n]) {
+    return [&m](const double* x, double* dx) {
+      for (int i = 0; i < n; ++i) {
+        dx[i] = 0.0;
+        for (int j = 0; j < n; ++j) dx[i] += m[i][j] * x[j];
+      }
+    };
+  };
+  const double x[n] = {1.0, -2.0, 0.5, 3.0};
+  double y[n];
+  for (int i = 0; i < n; ++i) {
+    y[i] = 0.0;
+    for (int j = 0; j < n; ++j) y[i] += q[i][j] * x[j];
+  }
+  RosenbrockStep sparse(n, n), dense(n, n);
+  double x1[n], y1[n];
+  ASSERT_TRUE(sparse(linear(a), x, x1, 1.0));
+  ASSERT_TRUE(dense(linear(b), y, y1, 1.0));
+  for (int i = 0; i < n; ++i) {
+    double qx1 = 0.0;
+    for (int j = 0; j < n; ++j) qx1 += q[i][j] * x1[j];
+    EXPECT_NEAR(qx1, y1[i], 1e-7 * (1.0 + std::abs(y1[i]))) << i;
+  }
+  // A wrong pivot or a dropped entry would be off by O(1): the step moved x by that much.
+  double moved = 0.0;
+  for (int i = 0; i < n; ++i) moved = std::max(moved, std::abs(x1[i] - x[i]));
+  EXPECT_GT(moved, 0.5);
+}
+
+// Components declared unread by the flow (M::flow_unread: time, clocks) get a zero Jacobian
+// column without a difference: the step is the same to the last bit as with the column differenced.
+TEST(Integration, Ros34pw2UnreadComponentsGiveTheSameStep) {
+  const auto flow = [](const double* x, double* dx) {  // reads x0, x1; x2 is a clock
+    dx[0] = -x[0] * x[1] + 0.3;
+    dx[1] = -40.0 * (x[1] - std::sin(x[0]));
+    dx[2] = 1.0;
+  };
+  const double x[3] = {0.8, 0.1, 12.5};
+  const int unread[1] = {2};
+  RosenbrockStep declared(3, 3, unread), differenced(3, 3);
+  for (const double h : {0.01, 0.1, 0.5}) {
+    double a[3], b[3];
+    ASSERT_TRUE(declared(flow, x, a, h));
+    ASSERT_TRUE(differenced(flow, x, b, h));
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(a[i], b[i]) << h << " " << i;
+    EXPECT_EQ(declared.error_norm(x, a, 1e-6, 1e-6), differenced.error_norm(x, b, 1e-6, 1e-6));
+  }
 }
 
 // Events under ROS34PW2: the bouncing ball's impact (a quadratic path: the third-order step is exact)

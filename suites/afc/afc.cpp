@@ -80,9 +80,11 @@
 //     (tests/test_afc.cpp, bench/bench_afc.cpp, Release, this 2-core machine): max |mu -
 //     mu_dopri5(1e-10)| at the ticks 1.2e-5 (AFC29-like) and 7.7e-6 (AFC33-like), RK4 at 1e-4
 //     3.5e-6 and 4.2e-6; about 2.5 accepted steps and one rejected step per tick (the rejected one
-//     spans the delayed fuel command's jump, item 6); BM_SimulateAfc 24 ms against RK4's 283 ms
+//     spans the delayed fuel command's jump, item 6); BM_SimulateAfc 13.5 ms against RK4's 283 ms
 //     (target 1 ms: missed; what is left is per tick: the located transition, the register's shift
-//     and two or three steps of 4 stages and 8 Jacobian columns each). A Jacobian of the Pm column
+//     and two or three steps of 4 stages and 6 Jacobian columns each: flow_unread spares t and the
+//     tick clock, which the flow does not read; was 21.9 ms before ROS34PW2 skipped J's zeros and
+//     the delay's slot was found by interpolation, bit-identical, docs/measurements.md). A Jacobian of the Pm column
 //     alone (a W-method keeps its order with any Jacobian) was 15 % faster and 3.4e-5 off: not
 //     taken. Sensitivity: at tolerance 1e-6 the AFC33-like case is 0.02 off for one tick: its pedal
 //     61.2 enters power mode when single(θ) first rounds to 70 (item 1), which an error of 1e-6 in
@@ -96,6 +98,7 @@
 //  8. Reachability (no requirement): AFC29's violation set, s = max(0.007 - |mu|, 11 - t).
 //  9. Tree methods (not tuned): x_rand over the physical states, metric over (Pm, m_p, AF, t).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -126,6 +129,7 @@ class Afc {
   };
   static constexpr bool guards_affine = true;
   static constexpr int flowing_dim = kPhat;  // the controller's states and the register only jump
+  static constexpr std::array<int, 2> flow_unread = {kTime, kClock};  // ROS34PW2 skips their J columns
 
   Afc(double horizon, double lo, double hi)
       : horizon_(horizon), inputs_(InputSet{Box{{lo}, {hi}}, {lo, 0.5 * (lo + hi), hi}}) {}
@@ -134,7 +138,9 @@ class Afc {
   bool valid_mode(Mode q) const { return q <= 1; }
 
   struct Plant {
-    double omega, rpm, theta, m_th, m_c, charge, k1, tau, af_cyl, delay;
+    double omega, rpm, theta, m_th, m_c, charge, k1, tau, delay;
+    // AF_cyl at state x (§4.5; the flow does not need it: only the jumps' register reads it).
+    double af_cyl(const double* x) const { return m_c / (k1 * x[kFuel] + x[kMp] / tau); }
   };
   // The plant's algebra at state x (§4), for the engine speed p[0].
   static Plant plant(const double* x, const double* p) {
@@ -145,9 +151,9 @@ class Afc {
     a.m_th = afc::throttle_flow(a.theta, x[kPm]);
     a.m_c = afc::kPumpTol * afc::pumping(x[kPm], a.omega);
     a.charge = afc::air_charge(a.m_c, a.omega);
-    a.k1 = afc::one_minus_kappa(a.rpm, a.charge);
-    a.tau = afc::tau_ww(a.rpm, a.charge);
-    a.af_cyl = a.m_c / (a.k1 * x[kFuel] + x[kMp] / a.tau);
+    const afc::WallWetting ww = afc::wall_wetting(a.rpm, a.charge);
+    a.k1 = ww.one_minus_kappa;
+    a.tau = ww.tau;
     a.delay = std::min(afc::transport_delay(a.rpm, a.charge), 10.0);
     return a;
   }
@@ -158,13 +164,17 @@ class Afc {
     const double target = x[kXd] - 1.0;
     const double* r = x + kReg;
     if (target < r[0]) return r[1];  // older than the register: clamp (header, 6)
-    // The last slot s with x_d(s) <= target.
-    int lo = 0, hi = kSlots - 1;
-    if (target >= r[3 * hi]) return r[3 * hi + 2];  // newer than the last tick: cannot happen for d >= 0.01 s
-    while (hi - lo > 1) {
-      const int mid = (lo + hi) / 2;
-      if (r[3 * mid] <= target) lo = mid; else hi = mid;
-    }
+    // The last slot s with x_d(s) <= target (unique: the samples do not decrease). x_d grows
+    // nearly linearly from tick to tick, so its place on the line through the oldest and newest
+    // samples is found within a slot or two of it: walked from there (a bisection's dependent
+    // loads were 40 % of the flow, perf).
+    constexpr int kLast = kSlots - 1;
+    if (target >= r[3 * kLast]) return r[3 * kLast + 2];  // newer than the last tick: cannot happen for d >= 0.01 s
+    const double guess = (target - r[0]) / (r[3 * kLast] - r[0]) * kLast;  // in [0, kLast)
+    int lo = std::clamp(static_cast<int>(guess), 0, kLast - 1);
+    while (lo + 1 < kLast && r[3 * (lo + 1)] <= target) ++lo;
+    while (lo > 0 && r[3 * lo] > target) --lo;
+    const int hi = lo + 1;
     const double x0 = r[3 * lo], x1 = r[3 * hi];
     const double w = (target - x0) / (x1 - x0);
     return r[3 * lo + 2] + w * (r[3 * hi + 1] - r[3 * lo + 2]);
@@ -192,7 +202,7 @@ class Afc {
       x[kFuel] = static_cast<double>(0.1726f);
       x[kMode] = 1.0;
       x[kRef] = static_cast<double>(14.7f);
-      const double af = plant(x, p).af_cyl;
+      const double af = plant(x, p).af_cyl(x);
       for (int s = 0; s < kSlots; ++s) {
         x[kReg + 3 * s] = 0.0;
         x[kReg + 3 * s + 1] = af;
@@ -206,9 +216,9 @@ class Afc {
     std::copy(x + kReg + 3, x + kDim, x + kReg);
     double* newest = x + kDim - 3;
     newest[0] = x[kXd];
-    newest[1] = a.af_cyl;
+    newest[1] = a.af_cyl(x);
     tick(x, a);
-    newest[2] = plant(x, p).af_cyl;  // after the command
+    newest[2] = plant(x, p).af_cyl(x);  // after the command
     return 1;
   }
 

@@ -41,18 +41,32 @@ inline double pumping(double pm, double omega) {
 
 // 2-D lookup, Simulink's n-D Lookup Table with linear interpolation and linear extrapolation
 // (§6.1): interpolate (or extrapolate) along dimension 1 (rpm) in the two columns that bracket c,
-// then along dimension 2 (c).
+// then along dimension 2 (c). In two parts, so that tables on the same breakpoints share the
+// bracket (the wall-wetting pair: one search for two tables).
+struct Bracket2 {
+  int i, j;       // the cell: rows i, i + 1 and columns j, j + 1
+  double wr, wc;  // the weights along each dimension (outside [0, 1]: extrapolation)
+};
+template <int R, int C>
+Bracket2 bracket2(const double (&rb)[R], const double (&cb)[C], double r, double c) {
+  Bracket2 b;
+  b.i = 0;
+  while (b.i + 2 < R && r >= rb[b.i + 1]) ++b.i;
+  b.j = 0;
+  while (b.j + 2 < C && c >= cb[b.j + 1]) ++b.j;
+  b.wr = (r - rb[b.i]) / (rb[b.i + 1] - rb[b.i]);
+  b.wc = (c - cb[b.j]) / (cb[b.j + 1] - cb[b.j]);
+  return b;
+}
+template <int R, int C>
+double interpolate2(const double (&v)[R][C], const Bracket2& k) {
+  const double a = v[k.i][k.j] + k.wr * (v[k.i + 1][k.j] - v[k.i][k.j]);
+  const double b = v[k.i][k.j + 1] + k.wr * (v[k.i + 1][k.j + 1] - v[k.i][k.j + 1]);
+  return a + k.wc * (b - a);
+}
 template <int R, int C>
 double lookup2(const double (&rb)[R], const double (&cb)[C], const double (&v)[R][C], double r, double c) {
-  int i = 0;
-  while (i + 2 < R && r >= rb[i + 1]) ++i;
-  int j = 0;
-  while (j + 2 < C && c >= cb[j + 1]) ++j;
-  const double wr = (r - rb[i]) / (rb[i + 1] - rb[i]);
-  const double wc = (c - cb[j]) / (cb[j + 1] - cb[j]);
-  const double a = v[i][j] + wr * (v[i + 1][j] - v[i][j]);
-  const double b = v[i][j + 1] + wr * (v[i + 1][j + 1] - v[i][j + 1]);
-  return a + wc * (b - a);
+  return interpolate2(v, bracket2(rb, cb, r, c));
 }
 
 // §6.1: rows rpm, columns cylinder air charge (g per intake event).
@@ -80,6 +94,14 @@ constexpr double kDelay[5][4] = {{0.80, 0.40, 0.30, 0.25},
 inline double one_minus_kappa(double rpm, double charge) { return lookup2(kWwRpm, kWwCharge, kOneMinusKappa, rpm, charge); }
 // τ_ww (s): the puddle's evaporation time constant, looked up in rpm (§4.5, not rad/s: §9).
 inline double tau_ww(double rpm, double charge) { return lookup2(kWwRpm, kWwCharge, kTauWw, rpm, charge); }
+// Both wall-wetting tables at once (one bracket): 1 - κ and τ_ww, as the two functions above.
+struct WallWetting {
+  double one_minus_kappa, tau;
+};
+inline WallWetting wall_wetting(double rpm, double charge) {
+  const Bracket2 k = bracket2(kWwRpm, kWwCharge, rpm, charge);
+  return {interpolate2(kOneMinusKappa, k), interpolate2(kTauWw, k)};
+}
 // d (s): the instantaneous transport delay (§4.6).
 inline double transport_delay(double rpm, double charge) { return lookup2(kDelayRpm, kDelayCharge, kDelay, rpm, charge); }
 
