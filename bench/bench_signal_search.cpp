@@ -30,7 +30,12 @@ void measure_run(benchmark::State& state, const std::string& method, std::vector
   std::uint64_t seed = 1;
   double simulations = 0.0;
   for (auto _ : state) {
-    const PlannerOutcome o = m->make(resolved)->solve({*system, system->info().parameters, seed++, {600.0, 1000000}});
+    const PlannerContext context{.system = *system,
+                                 .parameters = system->info().parameters,
+                                 .seed = seed++,
+                                 .limits = {600.0, 1000000},
+                                 .stop = {}};
+    const PlannerOutcome o = m->make(resolved)->solve(context);
     if (o.status == TrialStatus::falsified) {
       state.SkipWithError("a run falsified: the requirement must hold on every signal");
       return;
