@@ -215,7 +215,7 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
         for (std::size_t r = 0; r < table.rows.size(); ++r) {
           const auto& cell = trials[b][r][c];
           stopped[b][r] = stopped[b][r] || (!cell.empty() && std::all_of(cell.begin(), cell.end(), [](const TrialRecord& t) {
-                                              return t.status == TrialStatus::timeout || t.status == TrialStatus::node_cap;
+                                              return is_right_censored(t.status);
                                             }));
         }
     }

@@ -72,6 +72,10 @@ std::shared_ptr<const System> make_black_box(const BlackBoxSpec& spec, std::shar
     throw std::invalid_argument(fmt::format("horizon = {}: must be a positive number of seconds", spec.horizon));
   if (!(std::isfinite(spec.step) && spec.step > 0.0))
     throw std::invalid_argument(fmt::format("step = {}: must be a positive number of seconds", spec.step));
+  if (spec.step > spec.horizon)
+    throw std::invalid_argument(fmt::format("step = {} is longer than the horizon {}: the input signal holds pieces of "
+                                            "step seconds within the horizon",
+                                            spec.step, spec.horizon));
   SystemInfo info;
   info.suite = "black-box";
   Json ranges = Json::object();

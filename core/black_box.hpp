@@ -29,7 +29,7 @@ struct BlackBoxSpec {
 // The black box `model` as a System (suite "black-box"; instance: name, inputs, signals, horizon,
 // step). Throws std::invalid_argument naming what is wrong: no inputs or no signals, a name that
 // is not an identifier or is used twice, a range with lo > hi or not finite, horizon or step not
-// positive and finite.
+// positive and finite, a step longer than the horizon.
 std::shared_ptr<const System> make_black_box(const BlackBoxSpec& spec, std::shared_ptr<const stl::SignalModel> model);
 
 }  // namespace hyfal

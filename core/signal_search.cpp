@@ -23,7 +23,7 @@ OptionSpec input_shape_option() {
 
 SignalSimulations::SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon, InputShape shape)
     : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), budget_(ctx),
-      max_simulations_(std::min(budget, ctx.limits.max_nodes)), shape_(shape) {
+      max_simulations_(std::min(budget, ctx.limits.max_nodes)), budget_option_(budget), shape_(shape) {
   dt_ = system_.info().step_duration;
   pieces_ = static_cast<std::size_t>(std::max(1.0, std::ceil(horizon / dt_ - 1e-9)));
   if (shape_ == InputShape::linear)
@@ -49,7 +49,9 @@ void SignalSimulations::reserve(std::size_t n) {
 }
 
 void SignalSimulations::check_budget() const {
-  if (simulations_ >= max_simulations_) throw SearchOver{TrialStatus::node_cap};
+  // The method's budget when it is the smaller limit (or both are reached), else the node cap.
+  if (simulations_ >= max_simulations_)
+    throw SearchOver{simulations_ >= budget_option_ ? TrialStatus::budget : TrialStatus::node_cap};
   if (const auto why = budget_.exhausted(0)) throw SearchOver{*why};
 }
 

@@ -90,7 +90,8 @@ class SignalSimulations {
   // Slots 0..n-1 exist after this (slot 0 always does).
   void reserve(std::size_t n);
   SignalSlot& slot(std::size_t i) { return *slots_[i]; }
-  // Throws SearchOver when no further simulation may run: the budget is spent (node_cap), or
+  // Throws SearchOver when no further simulation may run: the budget is spent (budget; node_cap
+  // when the run's node cap is the smaller limit), or
   // the deadline passed or the trial was cancelled (timeout).
   void check_budget() const;
   // Simulations the budget still allows.
@@ -121,6 +122,7 @@ class SignalSimulations {
   SearchBudget budget_;
   std::vector<std::unique_ptr<SignalSlot>> slots_;
   std::int64_t max_simulations_;
+  std::int64_t budget_option_;  // the method's budget (max_simulations_ is it or the node cap)
   double dt_ = 1.0;
   std::size_t pieces_ = 1;
   InputShape shape_ = InputShape::constant;

@@ -665,8 +665,22 @@ Failure final_state_mismatch(Replay& run, const Trajectory& t, double& final_spe
   return std::nullopt;
 }
 
+// A trace that ends before the requirement's horizon is a prefix: the requirement may still be
+// met after its end (an `eventually`, `until` or `not always` at the top: ATc4-ATc6), so its
+// offline robustness < 0 proves nothing. It falsifies only when every extension's robustness is
+// negative: the prefix's upper bound (stl::OfflineMonitor::robustness_interval) < 0, as the tree
+// searches judge a node. A trace that reaches the horizon, or a requirement without one, passes.
+// `what`: the trace, as the reason names it.
+Failure prefix_not_violating(const stl::TraceVerdict& v, double end, std::string_view what, const std::string& text) {
+  if (v.complete || v.falsified()) return std::nullopt;
+  return fmt::format("{} ends at t = {:.6g}, before the requirement's horizon {:.6g}: as a prefix its robustness lies "
+                     "in [{:.6g}, {:.6g}], which what follows may make >= 0, for '{}'",
+                     what, end, v.horizon, v.bounds.lower, v.bounds.upper, text);
+}
+
 // An STL witness's trace against its requirement: the offline robustness of the re-simulated
-// samples must be negative, and the witness must name the requirement its instance has.
+// samples must be negative, and the witness must name the requirement its instance has; a trace
+// shorter than the requirement's horizon must violate it whatever follows (prefix_not_violating).
 Failure trace_violation(Replay& run, const Witness& w, ValidationReport& r) {
   const stl::Requirement& req = *run.system.info().requirement;
   if (!w.requirement) return "the instance has an STL requirement, but the witness records none";
@@ -684,13 +698,14 @@ Failure trace_violation(Replay& run, const Witness& w, ValidationReport& r) {
     for (std::size_t s = 0; s < signals; ++s) values[s * n + i] = run.rows[i * width + 1 + s];
   }
   stl::OfflineMonitor monitor(req.formula);
-  const double rho = monitor.robustness(stl::TraceView{time, values});
+  const stl::TraceView view{time, values};
+  const double rho = monitor.robustness(view);
   r.robustness = rho;
   r.samples = n;
   if (!(rho < 0.0))
     return fmt::format("the re-simulated trace ({} samples over [0, {:.6g}]) has robustness {:.6g} >= 0 for '{}'", n,
                        time.back(), rho, req.text);
-  return std::nullopt;
+  return prefix_not_violating(stl::judge_prefix(monitor, view), time.back(), "the re-simulated trace", req.text);
 }
 
 // A signal model's witness (System::signal_model: no states to re-simulate): its inputs in U,
@@ -739,12 +754,16 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
   try {
     stl::InputSimulator simulator(system);
     const stl::SimulatedTrace& trace = simulator.run(pieces, t.parameters);
-    const double rho = stl::trace_robustness(*req, trace);
+    stl::TraceMonitor monitor(*req);
+    const double rho = monitor.robustness(trace);
     r.robustness = rho;
     r.samples = trace.samples();
     if (!(rho < 0.0))
       return fail(fmt::format("the model's simulation of the witness's input ({} samples) has robustness {:.6g} >= 0 for '{}'",
                               trace.samples(), rho, req->text));
+    if (Failure why = prefix_not_violating(monitor.judge(trace), trace.time.empty() ? 0.0 : trace.time.back(),
+                                           "the model's simulation of the witness's input", req->text))
+      return fail(std::move(*why));
   } catch (const std::exception& e) {
     return fail(fmt::format("the model failed to simulate the witness's input: {}", e.what()));
   }

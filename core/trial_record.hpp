@@ -10,7 +10,10 @@
 
 namespace hyfal {
 
-enum class TrialStatus { falsified, not_found, timeout, node_cap, error };
+// node_cap: the run's node cap (--max-nodes) ended it; budget: the method's own budget (its
+// `budget` option: simulations, passes, simulation-equivalents) was spent. Databases written
+// before `budget` existed call both node_cap (results/store.cpp maps those rows on read).
+enum class TrialStatus { falsified, not_found, timeout, node_cap, budget, error };
 
 constexpr std::string_view to_string(TrialStatus s) {
   switch (s) {
@@ -18,6 +21,7 @@ constexpr std::string_view to_string(TrialStatus s) {
     case TrialStatus::not_found: return "not_found";
     case TrialStatus::timeout: return "timeout";
     case TrialStatus::node_cap: return "node_cap";
+    case TrialStatus::budget: return "budget";
     case TrialStatus::error: return "error";
   }
   return "error";
@@ -25,7 +29,7 @@ constexpr std::string_view to_string(TrialStatus s) {
 
 inline std::optional<TrialStatus> parse_trial_status(std::string_view s) {
   for (auto st : {TrialStatus::falsified, TrialStatus::not_found, TrialStatus::timeout,
-                  TrialStatus::node_cap, TrialStatus::error})
+                  TrialStatus::node_cap, TrialStatus::budget, TrialStatus::error})
     if (to_string(st) == s) return st;
   return std::nullopt;
 }

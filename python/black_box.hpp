@@ -7,6 +7,10 @@
 
 namespace hyfal::python {
 
+// Whether this thread is running a hyfal.BlackBox's simulate: a falsify() started from there
+// would wait on trials that wait on it (the model's thread), so falsify refuses it.
+bool inside_model_simulate();
+
 struct BlackBox {
   BlackBoxSpec spec;
   std::shared_ptr<const System> system;  // make_black_box over the Python function

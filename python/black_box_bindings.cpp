@@ -16,6 +16,22 @@ namespace hyfal::python {
 
 namespace {
 
+thread_local int models_running = 0;  // this thread's calls of a model's simulate in progress
+
+// Marks this thread as inside a model's simulate for the object's lifetime.
+struct InsideModel {
+  InsideModel() { ++models_running; }
+  ~InsideModel() { --models_running; }
+  InsideModel(const InsideModel&) = delete;
+  InsideModel& operator=(const InsideModel&) = delete;
+};
+
+}  // namespace
+
+bool inside_model_simulate() { return models_running > 0; }
+
+namespace {
+
 class PythonModel final : public stl::SignalModel {
  public:
   PythonModel(py::function fn, std::vector<std::string> inputs, std::vector<std::string> signals)
@@ -30,6 +46,7 @@ class PythonModel final : public stl::SignalModel {
   void simulate(std::span<const stl::InputPiece> pieces, std::span<const double>, std::vector<double>& time,
                 std::vector<std::vector<double>>& outputs) const override {
     py::gil_scoped_acquire gil;
+    const InsideModel inside;  // hyfal.falsify refuses to run from in here
     try {
       std::vector<double> t{0.0};
       for (const auto& p : pieces) t.push_back(t.back() + p.duration);

@@ -304,6 +304,9 @@ py::dict falsify_black_box(const BlackBox& box, py::handle requirement, const st
 py::dict falsify(py::handle suite_arg, py::handle requirement, const std::string& method_name, py::handle budget,
                  long long trials, long long threads, py::handle seed_arg, double timeout, long long max_nodes,
                  const std::string& experiment, const py::kwargs& options) {
+  if (inside_model_simulate())
+    throw std::runtime_error("falsify cannot be called from inside a model's simulate (it would wait on the trial "
+                             "that is running the model)");
   if (py::isinstance<BlackBox>(suite_arg))
     return falsify_black_box(suite_arg.cast<const BlackBox&>(), requirement, method_name, budget, trials, threads, seed_arg,
                              timeout, max_nodes, experiment, options);

@@ -24,7 +24,8 @@ LeagueCell make_cell(const std::vector<TrialRecord>& trials, double scale) {
     ++cell.n;
     switch (t.status) {
       case TrialStatus::falsified: ++cell.falsified; break;
-      case TrialStatus::node_cap: ++cell.budget_stops; break;
+      case TrialStatus::node_cap:  // the run's node cap: a budget too (ARCH-COMP counts none apart)
+      case TrialStatus::budget: ++cell.budget_stops; break;
       case TrialStatus::timeout: ++cell.timeouts; break;
       case TrialStatus::not_found: ++cell.not_found; break;
       case TrialStatus::error: ++cell.errors; break;

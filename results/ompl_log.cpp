@@ -21,7 +21,7 @@ namespace {
 using Json = nlohmann::json;
 
 constexpr TrialStatus kStatuses[] = {TrialStatus::falsified, TrialStatus::not_found, TrialStatus::timeout,
-                                     TrialStatus::node_cap, TrialStatus::error};
+                                     TrialStatus::node_cap, TrialStatus::budget, TrialStatus::error};
 
 // The grammar's names and hosts are single tokens (the reader splits lines at whitespace).
 std::string token(std::string s) {

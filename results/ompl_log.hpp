@@ -11,7 +11,7 @@
 //     time REAL (wall_s), cpu time REAL (cpu_s), solved BOOLEAN (status falsified),
 //     correct solution BOOLEAN (validated; empty unless solved), graph states INTEGER (nodes),
 //     propagations INTEGER, integration steps INTEGER, hyfal status ENUM (the enum
-//     hyfal_status: falsified|not_found|timeout|node_cap|error), trial index INTEGER,
+//     hyfal_status: falsified|not_found|timeout|node_cap|budget|error), trial index INTEGER,
 //     seed INTEGER.
 //   Preamble: "hyfal version V", the earliest started_at, the hosts, the master seed (0 when the
 //   trials differ in it), the largest timeout as the time limit, 0 MB memory limit (hyfal sets

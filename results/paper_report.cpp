@@ -55,6 +55,7 @@ PaperReportRow summarize_row(const PaperRow& paper_row, const std::vector<TrialR
       case TrialStatus::not_found: ++row.not_found; break;
       case TrialStatus::timeout: ++row.timeouts; break;
       case TrialStatus::node_cap: ++row.node_caps; break;
+      case TrialStatus::budget: ++row.budgets; break;
       case TrialStatus::error: ++row.errors; break;
     }
     // As summarize_trials: an error says nothing about how long the method needs.
@@ -164,6 +165,7 @@ std::string stopped_trials_cell(const PaperReportRow& row) {
   std::vector<std::string> parts;
   if (row.timeouts > 0) parts.push_back(fmt::format("{} ⏱", row.timeouts));
   if (row.node_caps > 0) parts.push_back(fmt::format("{} node cap", row.node_caps));
+  if (row.budgets > 0) parts.push_back(fmt::format("{} budget", row.budgets));
   if (parts.empty()) return "0";
   return fmt::format("{}", fmt::join(parts, ", "));
 }
@@ -505,7 +507,7 @@ std::string to_csv(const PaperReport& report, const ReportHeader& header) {
   std::string csv =
       "table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,ci_low,ci_high,"
       "timeouts,std,falsified,node_caps,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,time_mean_s,"
-      "time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,paper_previous,verdict,p_value";
+      "time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,paper_previous,verdict,p_value,budgets";
   csv += kLineEnd;
   for (std::size_t r = 0; r < report.rows.size(); ++r) {
     const PaperReportRow& row = report.rows[r];
@@ -526,6 +528,7 @@ std::string to_csv(const PaperReport& report, const ReportHeader& header) {
           pair ? csv_field(report.rows[pair->first].label) : std::string(),
           pair ? csv_field(to_string(pair->verdict)) : std::string(),
           pair && pair->verdict != OrderingVerdict::too_few_trials ? csv_number(pair->test.p_value) : std::string(),
+          fmt::format("{}", row.budgets),
       };
       csv += fmt::format("{}", fmt::join(fields, ","));
       csv += kLineEnd;

@@ -41,11 +41,11 @@ struct PaperReportRow {
   std::string method;
   Settings settings;  // the row's own settings, as the table states them
   std::size_t n = 0;  // trials
-  std::size_t falsified = 0, timeouts = 0, node_caps = 0, not_found = 0, errors = 0;
+  std::size_t falsified = 0, timeouts = 0, node_caps = 0, budgets = 0, not_found = 0, errors = 0;
   double falsified_rate = kNotReported;  // falsified / n (errors count as not falsified)
   SampleSummary nodes;   // errors excluded
   SampleSummary wall_s;  // errors excluded
-  bool censored() const { return timeouts > 0 || node_caps > 0; }
+  bool censored() const { return timeouts > 0 || node_caps > 0 || budgets > 0; }
   std::vector<PaperReportCell> cells;  // one per column
 };
 
@@ -174,7 +174,7 @@ std::string cpu_time_line(const ReportHeader& header);
 // table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,
 // ci_low,ci_high,timeouts,std,falsified,node_caps,nodes_mean,nodes_median,nodes_std,
 // nodes_ci_low,nodes_ci_high,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,
-// paper_previous,verdict,p_value. n, median, CI and std are of the column's sample
+// paper_previous,verdict,p_value,budgets (trials that spent the method's budget). n, median, CI and std are of the column's sample
 // (PaperReportCell::sample), nodes_* and time_* of the row's trials; paper_previous is the row
 // before this one in the paper's order of the column and verdict, p_value the ordering test of
 // that pair (empty for the first row of the order and rows the paper leaves out); numbers have

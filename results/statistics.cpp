@@ -219,6 +219,7 @@ std::vector<GroupSummary> summarize_trials(std::span<const TrialRecord> trials) 
       case TrialStatus::not_found: ++group.not_found; break;
       case TrialStatus::timeout: ++group.timeouts; break;
       case TrialStatus::node_cap: ++group.node_caps; break;
+      case TrialStatus::budget: ++group.budgets; break;
       case TrialStatus::error: ++group.errors; break;
     }
     // An error says nothing about how long the method needs, not even a lower bound.

@@ -41,6 +41,7 @@ struct GroupSummary {
   std::size_t validated = 0;
   std::size_t timeouts = 0;
   std::size_t node_caps = 0;
+  std::size_t budgets = 0;  // stopped by the method's budget (TrialStatus::budget)
   std::size_t not_found = 0;
   std::size_t errors = 0;
   double falsified_rate = 0.0;
@@ -55,12 +56,12 @@ struct GroupSummary {
   bool has_requirement_data() const { return robustness.n > 0 || simulations.n > 0; }
 };
 
-// Whether a trial's time and nodes are right-censored: the trial was stopped by the time limit or
-// the node cap, so the values it recorded are lower bounds of what the method needs. Errors carry
+// Whether a trial's time and nodes are right-censored: the trial was stopped by the time limit,
+// the node cap or the method's budget, so the values it recorded are lower bounds of what the method needs. Errors carry
 // no value at all (they are left out of every sample); a gave-up search (not_found) ended on its
 // own, so its values are exact.
 constexpr bool is_right_censored(TrialStatus status) {
-  return status == TrialStatus::timeout || status == TrialStatus::node_cap;
+  return status == TrialStatus::timeout || status == TrialStatus::node_cap || status == TrialStatus::budget;
 }
 
 // One value of a sample. censored: the true value is larger than `value` (right-censored at it).

@@ -28,17 +28,17 @@
 namespace hyfal {
 namespace {
 
-constexpr int kSchemaVersion = 1;
+// Schema 2 (2026-12-07) adds the status 'budget' (a trial that spent its method's budget), which
+// schema 1 called 'node_cap' like the node cap. A schema-1 database is read with those rows mapped
+// (budget_stop_in_schema_1) and migrated, the same mapping written, when opened for writing
+// (migrate_from_schema_1): its trials table is rebuilt with the new CHECK, one transaction.
+constexpr int kSchemaVersion = 2;
 constexpr int kBusyTimeoutMs = 5000;
 
-// IF NOT EXISTS everywhere: opening an existing database runs the same script harmlessly.
-constexpr const char* kSchemaSql = R"sql(
-CREATE TABLE IF NOT EXISTS meta (
-  key   TEXT PRIMARY KEY,
-  value TEXT NOT NULL
-);
-INSERT OR IGNORE INTO meta (key, value) VALUES ('schema_version', '1');  -- kSchemaVersion
-CREATE TABLE IF NOT EXISTS trials (
+// The trials table, named `name` (the migration builds it beside the old one first).
+std::string trials_table_sql(std::string_view name) {
+  return fmt::format(R"sql(
+CREATE TABLE IF NOT EXISTS {} (
   id                INTEGER PRIMARY KEY,
   experiment        TEXT    NOT NULL,
   suite             TEXT    NOT NULL,
@@ -48,7 +48,7 @@ CREATE TABLE IF NOT EXISTS trials (
   trial_index       INTEGER NOT NULL,
   seed              INTEGER NOT NULL,
   status            TEXT    NOT NULL
-    CHECK (status IN ('falsified', 'not_found', 'timeout', 'node_cap', 'error')),
+    CHECK (status IN ('falsified', 'not_found', 'timeout', 'node_cap', 'budget', 'error')),
   validated         INTEGER NOT NULL CHECK (validated IN (0, 1)),
   wall_s            REAL    NOT NULL,
   cpu_s             REAL    NOT NULL,
@@ -62,9 +62,23 @@ CREATE TABLE IF NOT EXISTS trials (
   git_commit        TEXT    NOT NULL,
   started_at        TEXT    NOT NULL,
   finished_at       TEXT    NOT NULL,
-  metrics           TEXT    NOT NULL DEFAULT '{}',
+  metrics           TEXT    NOT NULL DEFAULT '{{}}',
   UNIQUE (experiment, suite, instance, method, config, trial_index)
 );
+)sql",
+                     name);
+}
+
+// IF NOT EXISTS everywhere: opening an existing database runs the same script harmlessly (an
+// existing schema_version stays: a schema-1 database is migrated apart).
+std::string schema_sql() {
+  return fmt::format(R"sql(
+CREATE TABLE IF NOT EXISTS meta (
+  key   TEXT PRIMARY KEY,
+  value TEXT NOT NULL
+);
+INSERT OR IGNORE INTO meta (key, value) VALUES ('schema_version', '{}');
+{}
 CREATE TABLE IF NOT EXISTS series (
   trial_id INTEGER NOT NULL REFERENCES trials (id),
   name     TEXT    NOT NULL,
@@ -87,7 +101,9 @@ CREATE TABLE IF NOT EXISTS claims (
   PRIMARY KEY (experiment, suite, instance, method, config, trial_index)
 );
 CREATE INDEX IF NOT EXISTS claims_by_token ON claims (token);
-)sql";
+)sql",
+                     kSchemaVersion, trials_table_sql("trials"));
+}
 
 // The columns each table of a hyfal database has (the check before anything is written).
 const std::map<std::string, std::set<std::string>>& expected_columns() {
@@ -104,6 +120,17 @@ const std::map<std::string, std::set<std::string>>& expected_columns() {
   };
   return columns;
 }
+
+// Whether a schema-1 row was stopped by its method's budget (which schema 1 called node_cap):
+// status node_cap, its config's method options set a budget > 0, and it holds fewer nodes than
+// its node cap, which therefore cannot have stopped it. A node cap below the budget is still a
+// node cap. One case it misreads: an RRFT run with a budget whose last planting the node cap
+// refused (that leaves fewer nodes than the cap): read as budget. A SQL expression, so that a
+// reader of a schema-1 file and the migration apply the very same rule.
+constexpr const char* kSchema1BudgetStop =
+    "(status = 'node_cap' AND json_valid(config) AND json_type(config, '$.options.budget') IN ('integer', 'real') "
+    "AND json_extract(config, '$.options.budget') > 0 AND json_type(config, '$.max_nodes') IN ('integer', 'real') "
+    "AND nodes < json_extract(config, '$.max_nodes'))";
 
 constexpr const char* kTrialColumns =
     "experiment, suite, instance, method, config, trial_index, seed, status, validated, "
@@ -306,10 +333,10 @@ bool check_hyfal_schema(sqlite3* connection, const std::string& path) {
     throw_not_hyfal(path, "its table 'meta' is not hyfal's (no key and value columns)");
   }
   if (versions.empty()) throw_not_hyfal(path, "its table 'meta' holds no schema_version");
-  if (versions.front() != std::to_string(kSchemaVersion))
+  if (versions.front() != std::to_string(kSchemaVersion) && versions.front() != "1")
     throw StoreError(StoreErrorKind::bad_input,
                      fmt::format("results database '{}': schema version {} is not supported by this build "
-                                 "(reads {})",
+                                 "(reads 1 and {})",
                                  path, versions.front(), kSchemaVersion));
   for (const auto& [table, columns] : expected_columns()) {
     if (!tables.count(table)) {
@@ -326,6 +353,43 @@ bool check_hyfal_schema(sqlite3* connection, const std::string& path) {
         throw_not_hyfal(path, fmt::format("its table '{}' has a column '{}' that hyfal's has not", table, column));
   }
   return true;
+}
+
+// The database's schema_version (one check_hyfal_schema accepted: 1 or kSchemaVersion).
+int schema_version_of(sqlite3* connection, const std::string& path) {
+  int version = kSchemaVersion;
+  for_each_row(connection, path, "SELECT value FROM meta WHERE key = 'schema_version'",
+               [&](const std::string& value) { version = value == "1" ? 1 : kSchemaVersion; });
+  return version;
+}
+
+// Rebuilds a schema-1 database's trials table with schema 2's CHECK (SQLite cannot alter a
+// CHECK: sqlite.org/lang_altertable.html, "Making Other Kinds Of Table Schema Changes": new
+// table, copy, drop, rename, in one transaction with foreign keys off), relabels its budget stops
+// (kSchema1BudgetStop) and sets schema_version 2. Rows keep their ids, so series stay attached.
+// Another process may have migrated it first: then nothing is done.
+void migrate_from_schema_1(sqlite3* connection, const std::string& path) {
+  const std::string what = fmt::format("cannot migrate results database '{}' to schema {}", path, kSchemaVersion);
+  execute(connection, "PRAGMA foreign_keys = OFF", what);  // a no-op inside a transaction: set before
+  execute(connection, "BEGIN IMMEDIATE", what);
+  try {
+    if (schema_version_of(connection, path) == 1) {
+      execute(connection, trials_table_sql("trials_schema_2").c_str(), what);
+      execute(connection,
+              fmt::format("INSERT INTO trials_schema_2 (id, {0}) SELECT id, {0} FROM trials", kTrialColumns).c_str(), what);
+      execute(connection, "DROP TABLE trials", what);
+      execute(connection, "ALTER TABLE trials_schema_2 RENAME TO trials", what);
+      execute(connection, fmt::format("UPDATE trials SET status = 'budget' WHERE {}", kSchema1BudgetStop).c_str(), what);
+      execute(connection, fmt::format("UPDATE meta SET value = '{}' WHERE key = 'schema_version'", kSchemaVersion).c_str(),
+              what);
+    }
+    execute(connection, "COMMIT", what);
+  } catch (...) {
+    sqlite3_exec(connection, "ROLLBACK", nullptr, nullptr, nullptr);
+    sqlite3_exec(connection, "PRAGMA foreign_keys = ON", nullptr, nullptr, nullptr);
+    throw;
+  }
+  execute(connection, "PRAGMA foreign_keys = ON", what);
 }
 
 // The database files this process has open through a TrialStore, by (device, inode), counted.
@@ -450,7 +514,7 @@ bool create_database_file(const std::string& path) {
   }
   RawConnection built(memory, &sqlite3_close_v2);
   const std::string what = fmt::format("cannot create the schema of results database '{}'", path);
-  execute(memory, kSchemaSql, what);
+  execute(memory, schema_sql().c_str(), what);
   sqlite3_int64 size = 0;
   std::unique_ptr<unsigned char, decltype(&sqlite3_free)> image(sqlite3_serialize(memory, "main", &size, 0),
                                                                 &sqlite3_free);
@@ -657,7 +721,7 @@ void configure(sqlite3* connection, const std::string& path) {
   run("PRAGMA foreign_keys = ON");  // a series must belong to a stored trial
   // IMMEDIATE: two processes opening a new database at once create the schema one at a time.
   run("BEGIN IMMEDIATE");
-  if (sqlite3_exec(connection, kSchemaSql, nullptr, nullptr, nullptr) != SQLITE_OK) {
+  if (sqlite3_exec(connection, schema_sql().c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) {
     const int rc = sqlite3_extended_errcode(connection);
     const std::string message = sqlite3_errmsg(connection);
     sqlite3_exec(connection, "ROLLBACK", nullptr, nullptr, nullptr);
@@ -730,10 +794,15 @@ TrialStore::TrialStore(std::string path, Connection connection, bool writable)
       "SELECT trial_index FROM trials "
       "WHERE experiment = ?1 AND suite = ?2 AND instance = ?3 AND method = ?4 AND config = ?5 "
       "AND status <> 'error'");
+  // A schema-1 file (read-only: a writer migrated it) has its budget stops mapped as it is read.
+  std::string columns = kTrialColumns;
+  if (schema_version_of(connection_.get(), path_) == 1)
+    columns.replace(columns.find(" status,"), 8,
+                    fmt::format(" CASE WHEN {} THEN 'budget' ELSE status END,", kSchema1BudgetStop));
   select_trials_ = prepare(
       fmt::format("SELECT {} FROM trials WHERE ?1 IS NULL OR experiment = ?1 "
                   "ORDER BY suite, instance, method, config, trial_index, experiment",
-                  kTrialColumns)
+                  columns)
           .c_str());
   select_series_ = prepare(
       "SELECT s.x, s.y FROM series s JOIN trials t ON s.trial_id = t.id WHERE t.experiment = ?1 AND "
@@ -832,6 +901,7 @@ TrialStore TrialStore::open_once(const std::string& path) {
   if (!check_hyfal_schema(connection.get(), path))
     throw StoreError(StoreErrorKind::environment,
                      fmt::format("results database '{}' lost its schema while opening", path));
+  if (schema_version_of(connection.get(), path) == 1) migrate_from_schema_1(connection.get(), path);
   return TrialStore(path, std::move(connection), true);
 }
 

@@ -98,8 +98,9 @@ class TrialStore {
   // database without any table) gets the schema in place. A hot journal that a killed writer
   // left is rolled back first (as SQLite would on any read-write open: the file returns to its
   // last commit). Any other file is first opened read-only and checked to be a hyfal results
-  // database of schema version 1 (tables meta, trials and series with hyfal's columns); only
-  // then is it opened for writing, so a file that is not one is never changed. Throws StoreError: bad_input for a file
+  // database of schema version 1 or 2 (tables meta, trials and series with hyfal's columns);
+  // only then is it opened for writing, so a file that is not one is never changed. A schema-1
+  // file is then migrated to schema 2 (store.cpp: migrate_from_schema_1). Throws StoreError: bad_input for a file
   // that is not a hyfal database, an unsupported schema version, a directory or an empty path;
   // environment when a usable path cannot be opened (I/O, disk full, locked, permissions).
   static TrialStore open(const std::string& path);

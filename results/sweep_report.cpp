@@ -96,7 +96,8 @@ SweepReport make_sweep_report(const PaperTable& table,
           switch (t.status) {
             case TrialStatus::falsified: ++cell.falsified; break;
             case TrialStatus::timeout: ++cell.timeouts; break;
-            case TrialStatus::node_cap: ++cell.node_caps; break;
+            case TrialStatus::node_cap:
+            case TrialStatus::budget: ++cell.node_caps; break;  // a cap either way: stopped, censored
             case TrialStatus::not_found: ++cell.not_found; break;
             case TrialStatus::error: ++cell.errors; break;
           }

@@ -40,12 +40,13 @@ std::string mark_censored(std::string cell, bool censored) {
   return fmt::format("{}{}", kAtLeast, cell);
 }
 
-bool is_censored(const GroupSummary& group) { return group.timeouts > 0 || group.node_caps > 0; }
+bool is_censored(const GroupSummary& group) { return group.timeouts > 0 || group.node_caps > 0 || group.budgets > 0; }
 
 std::string stopped_trials_cell(const GroupSummary& group) {
   std::vector<std::string> parts;
   if (group.timeouts > 0) parts.push_back(fmt::format("{} ⏱", group.timeouts));
   if (group.node_caps > 0) parts.push_back(fmt::format("{} node cap", group.node_caps));
+  if (group.budgets > 0) parts.push_back(fmt::format("{} budget", group.budgets));
   if (parts.empty()) return "0";
   return fmt::format("{}", fmt::join(parts, ", "));
 }
@@ -130,7 +131,7 @@ std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPl
   constexpr std::string_view kLineEnd = "\r\n";
   std::string csv = places.empty() ? "" : "block,row,column,";
   csv +=
-      "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
+      "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,budgets,"
       "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
       "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high";
   const bool stl = std::any_of(groups.begin(), groups.end(), [](const GroupSummary& g) { return g.has_requirement_data(); });
@@ -152,6 +153,7 @@ std::string to_csv(std::span<const GroupSummary> groups, std::span<const GroupPl
         csv_number(group.falsified_rate),
         fmt::format("{}", group.timeouts),
         fmt::format("{}", group.node_caps),
+        fmt::format("{}", group.budgets),
         fmt::format("{}", group.not_found),
         fmt::format("{}", group.errors),
         csv_number(group.wall_s.mean),
@@ -237,8 +239,8 @@ std::string to_markdown(std::span<const GroupSummary> groups, std::span<const Gr
     md += "\n";
   }
   if (marked)
-    md += fmt::format("{} right-censored: the cell has trials stopped by the time limit or the node cap, counted with "
-                      "the time and nodes they had when stopped, so the true value is at least this.\n",
+    md += fmt::format("{} right-censored: the cell has trials stopped by the time limit, the node cap or the method's "
+                      "budget, counted with the time and nodes they had when stopped, so the true value is at least this.\n",
                       kAtLeast);
   return md;
 }

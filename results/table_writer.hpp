@@ -14,8 +14,8 @@ namespace hyfal {
 //   time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | nodes std | timeouts
 // The config column appears only when the groups differ in config. A group with timed-out or
 // node-capped trials has its time and nodes medians and means prefixed with "≥" (they are lower
-// bounds) and its timeouts cell reads e.g. "3 ⏱" (plus "2 node cap" for node caps); a footnote
-// line below the table then explains "≥". Missing statistics (e.g. a CI of one trial) read "–".
+// bounds) and its timeouts cell reads e.g. "3 ⏱" (plus "2 node cap" for node caps, "4 budget" for trials that
+// spent their method's budget); a footnote line below the table then explains "≥". Missing statistics (e.g. a CI of one trial) read "–".
 std::string to_markdown(std::span<const GroupSummary> groups);
 
 // The same table with the identifying columns (suite | instance | method | [config]) replaced by
@@ -26,7 +26,7 @@ std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<
 
 // RFC 4180 CSV (CRLF line ends, fields with a comma, quote or line break quoted, quotes doubled)
 // with a header row: suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,
-// node_caps,not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,
+// node_caps,budgets,not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,
 // nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high. Numbers are written with full
 // (round-trip) precision; a NaN statistic is an empty field.
 std::string to_csv(std::span<const GroupSummary> groups);

@@ -134,11 +134,12 @@ TEST(Adaptive, FindsAKnownCornerFirstAndAKnownMidpoint) {
 
 // The budget counts passes; each pass simulates the whole signal once, so simulations = the
 // counters' nodes and simulated time = simulations x horizon; the node cap bounds the
-// simulations too.
+// simulations too. Each stop is named for its limit: budget, or node_cap when the run's cap is
+// the smaller.
 TEST(Adaptive, TheBudgetCountsPassesAndSimulations) {
   const auto sys = make({{"requirement", "always[0,30] (u1 <= 100)"}});  // never falsified
   const PlannerOutcome o = solve(*sys, {{"budget", "40"}}, 3);
-  EXPECT_EQ(o.status, TrialStatus::node_cap);
+  EXPECT_EQ(o.status, TrialStatus::budget);  // the method's budget, not the run's node cap
   EXPECT_EQ(o.metrics.at("passes").get<int>(), 40);
   EXPECT_LE(o.counters.nodes, 40);
   EXPECT_GE(o.counters.nodes, 30);  // a pass without a simulation only where a subtree is exhausted
@@ -174,7 +175,7 @@ TEST(Adaptive, ALinearSignalPassesBetweenTheLevels) {
   const auto sys = make({{"requirement", "always[0,30] (u1 < 33 or u1 > 34)"}});
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     const PlannerOutcome held = solve(*sys, {{"budget", "60"}}, seed);
-    EXPECT_EQ(held.status, TrialStatus::node_cap) << seed;
+    EXPECT_EQ(held.status, TrialStatus::budget) << seed;
     const PlannerOutcome line = solve(*sys, {{"budget", "60"}, {"input_shape", "linear"}}, seed);
     ASSERT_EQ(line.status, TrialStatus::falsified) << seed;
     ASSERT_TRUE(line.trajectory->linear_input);
@@ -243,7 +244,7 @@ TEST(AdaptiveLocal, LocalSearchesShareTheBudgetAndWitnessesValidate) {
       return m->make(resolve_options(m->options, {{"budget", "300"}}))->solve({*sys, sys->info().parameters, seed, {kTrialSeconds, 1000000}});
     };
     const PlannerOutcome o = run();
-    ASSERT_TRUE(o.status == TrialStatus::falsified || o.status == TrialStatus::node_cap) << seed;
+    ASSERT_TRUE(o.status == TrialStatus::falsified || o.status == TrialStatus::budget) << seed;
     const std::int64_t passes = o.metrics.at("passes").get<std::int64_t>();
     const std::int64_t local = o.metrics.at("local_simulations").get<std::int64_t>();
     EXPECT_LE(o.counters.nodes, 300);

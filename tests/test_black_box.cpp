@@ -104,6 +104,48 @@ TEST(BlackBox, TreesAreRefusedAndAFailingModelEndsTheTrialWithItsMessage) {
   }
 }
 
+// A model that stops before its input signal's end breaks its contract (SignalModel): its trace
+// would be a prefix taken for the whole signal. The simulation throws, naming where the trace
+// ends and the horizon; a search ends its trial with that message, never a falsification.
+class EndsAtOne final : public stl::SignalModel {
+ public:
+  void simulate(std::span<const stl::InputPiece>, std::span<const double>, std::vector<double>& time,
+                std::vector<std::vector<double>>& outputs) const override {
+    time = {0.0, 1.0};
+    outputs[0] = {0.0, 2.0};
+  }
+};
+
+TEST(BlackBox, ATraceThatEndsBeforeTheInputIsAnError) {
+  const auto sys = mean_box(std::make_shared<EndsAtOne>(), "eventually[0,5] (y > 3)");
+  for (const char* method : {"random", "adaptive"}) {
+    try {
+      run(*sys, method, {{"budget", "5"}, {"horizon", "5"}}, 1);
+      FAIL() << method << ": a trace shorter than its input must end the trial";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("ends at t = 1 s, before the horizon 5 s"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The signal of a witness may be shorter than its requirement's horizon (the option `horizon`):
+// the model's trace is then a prefix, and it falsifies only when nothing after it can undo the
+// violation (its upper bound < 0).
+TEST(BlackBox, AWitnessShorterThanItsRequirementIsJudgedAsAPrefix) {
+  const std::vector<stl::InputPiece> low{{1.0, {0.0}}, {1.0, {0.0}}}, high{{1.0, {1.0}}, {1.0, {1.0}}};
+  const auto eventually = mean_box(std::make_shared<RunningMean>(), "eventually[0,10] (y > 0.95)");
+  const ValidationReport r =
+      validate_witness(*eventually, make_witness(*eventually, "hand", 0, stl::trajectory_of_inputs(*eventually, low, {})));
+  EXPECT_FALSE(r.valid);
+  ASSERT_TRUE(r.robustness);
+  EXPECT_LT(*r.robustness, 0.0);
+  EXPECT_NE(r.reason.find("ends at t = 2, before the requirement's horizon 10"), std::string::npos) << r.reason;
+  const auto always = mean_box(std::make_shared<RunningMean>(), "always[0,10] (y < 0.5)");
+  const ValidationReport q =
+      validate_witness(*always, make_witness(*always, "hand", 0, stl::trajectory_of_inputs(*always, high, {})));
+  EXPECT_TRUE(q.valid) << q.reason;
+}
+
 TEST(BlackBox, RefusesABadSpecification) {
   const auto model = std::make_shared<RunningMean>();
   BlackBoxSpec good;
@@ -112,7 +154,7 @@ TEST(BlackBox, RefusesABadSpecification) {
   good.output_names = {"y"};
   good.horizon = 10.0;
   EXPECT_NO_THROW(make_black_box(good, model));
-  std::vector<BlackBoxSpec> bad(7, good);
+  std::vector<BlackBoxSpec> bad(8, good);
   bad[0].input_names.clear();
   bad[1].output_names = {"u"};         // named twice
   bad[2].output_names = {"2y"};        // not a name
@@ -120,6 +162,7 @@ TEST(BlackBox, RefusesABadSpecification) {
   bad[4].horizon = 0.0;
   bad[5].step = std::nan("");
   bad[6].output_names = {"safety"};    // the reserved signal
+  bad[7].step = 11.0;                  // longer than the horizon: no piece fits
   for (std::size_t i = 0; i < bad.size(); ++i) EXPECT_THROW(make_black_box(bad[i], model), std::invalid_argument) << i;
   EXPECT_THROW(make_black_box(good, nullptr), std::invalid_argument);
 }

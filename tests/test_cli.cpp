@@ -1175,7 +1175,7 @@ TEST_F(CliTest, ForeignDatabasesAreRefusedAndLeftUnchanged) {
   const Foreign cases[] = {
       {"unrelated.db", "CREATE TABLE people (name TEXT); INSERT INTO people VALUES ('ada');"},
       {"unrelated-wal.db", "PRAGMA journal_mode = WAL; CREATE TABLE people (name TEXT);"},
-      {"version2.db", "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES ('schema_version', '2');"},
+      {"version3.db", "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES ('schema_version', '3');"},
       {"other-trials.db", "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT); INSERT INTO meta VALUES "
                           "('schema_version', '1'); CREATE TABLE trials (id INTEGER, name TEXT); "
                           "CREATE TABLE series (trial_id, name, x, y);"},
@@ -1192,7 +1192,7 @@ TEST_F(CliTest, ForeignDatabasesAreRefusedAndLeftUnchanged) {
       EXPECT_EQ(r.code, 2) << r;
       EXPECT_EQ(lines(r.err).size(), 1u) << r;
       EXPECT_TRUE(contains(r.err, c.name)) << r;
-      EXPECT_TRUE(contains(r.err, "is not a hyfal results database") || contains(r.err, "schema version 2")) << r;
+      EXPECT_TRUE(contains(r.err, "is not a hyfal results database") || contains(r.err, "schema version 3")) << r;
       EXPECT_EQ(read_text(work() / c.name), bytes) << "the file was changed";
       EXPECT_EQ(snapshot(work()), before) << "a file was created or removed";
     }

@@ -310,7 +310,7 @@ TEST(F16, CmaesFindsTheFalsifyingAttitudeAt2338Ft) {
     std::printf("F16 at %s ft, cmaes: %s after %lld simulations, robustness %.4f\n", altitude,
                 std::string(to_string(o.status)).c_str(), static_cast<long long>(o.counters.nodes), rho);
     if (std::string(altitude) == "4040") {
-      EXPECT_EQ(o.status, TrialStatus::node_cap);
+      EXPECT_EQ(o.status, TrialStatus::budget);
       EXPECT_GT(rho, 1500.0);
       continue;
     }

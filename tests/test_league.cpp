@@ -259,7 +259,7 @@ TEST(LeagueReport, ACellThatDoesNotApplyIsShownAsSuchAndJudgedNowhere) {
 }
 
 // A tree given a budget stops once its simulated time reaches budget x the requirement's horizon
-// (status node_cap, as an optimiser at its budget), within one extension of it.
+// (status budget, as an optimiser at its budget), within one extension of it.
 TEST(SimulationBudget, ATreeStopsAtItsBudgetAsAnOptimiserDoes) {
   const SuiteEntry* at = find_suite("at");
   const auto sys = at->make(resolve_options(at->parameters, {{"requirement", "AT1"}}));
@@ -267,7 +267,7 @@ TEST(SimulationBudget, ATreeStopsAtItsBudgetAsAnOptimiserDoes) {
     const MethodEntry* m = find_method(method);
     auto planner = m->make(resolve_options(m->options, {{"budget", "20"}}));
     const PlannerOutcome out = planner->solve({*sys, sys->info().parameters, 7, {60.0, 1'000'000}});
-    EXPECT_EQ(out.status, TrialStatus::node_cap) << method;
+    EXPECT_EQ(out.status, TrialStatus::budget) << method;
     const double sims = out.counters.simulated_time / 20.0;  // AT1's horizon: 20 s
     EXPECT_GE(sims, 20.0) << method;
     EXPECT_LT(sims, 20.0 + 9 * 1.0 / 20.0 + 1e-9) << method << ": one extension is at most 9 pieces of 1 s";

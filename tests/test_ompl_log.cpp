@@ -270,7 +270,7 @@ TEST(OmplLog, ParsesAfterTheDocumentedGrammarAndHoldsTheTrialsValues) {
   EXPECT_EQ(nav.experiment_properties.at("instance_n"), std::make_pair(std::string("INTEGER"), std::string("4")));
   EXPECT_EQ(nav.experiment_properties.at("instance_step").first, "REAL");
   EXPECT_FALSE(nav.experiment_properties.count("instance_driver")) << "strings are not nums";
-  ASSERT_EQ(nav.enums.at("hyfal_status"), (std::vector<std::string>{"falsified", "not_found", "timeout", "node_cap", "error"}));
+  ASSERT_EQ(nav.enums.at("hyfal_status"), (std::vector<std::string>{"falsified", "not_found", "timeout", "node_cap", "budget", "error"}));
   ASSERT_EQ(nav.planners.size(), 2u);
 
   const ParsedPlanner* rrt = planner_named(nav, "rrt");

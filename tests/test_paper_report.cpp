@@ -311,7 +311,7 @@ TEST(PaperReport, CsvLinesAndEscaping) {
   const std::string header =
       "table,profile,row,method,column,paper,ours,paper_ratio,ours_ratio,n,falsified_rate,median,ci_low,ci_high,"
       "timeouts,std,falsified,node_caps,nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high,time_mean_s,"
-      "time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,paper_previous,verdict,p_value\r\n";
+      "time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,paper_previous,verdict,p_value,budgets\r\n";
   ASSERT_EQ(csv.substr(0, header.size()), header);
   std::size_t lines = 0;
   for (std::size_t p = 0; (p = csv.find("\r\n", p)) != std::string::npos; p += 2) ++lines;
@@ -326,12 +326,13 @@ TEST(PaperReport, CsvLinesAndEscaping) {
   ASSERT_NE(a_nodes, std::string::npos);
   const std::string a_line = csv.substr(a_nodes, csv.find("\r\n", a_nodes) - a_nodes);
   EXPECT_NE(a_line.find(",0,100,2,0,200,200,100,"), std::string::npos) << a_line;
-  EXPECT_EQ(a_line.substr(a_line.size() - 3), ",,,") << a_line;
+  EXPECT_EQ(a_line.substr(a_line.size() - 5), ",,,,0") << a_line;  // no pair verdict; no budget stop
   // Coverage: paper B (0.4) < A (0.8), so A's line carries the pair B < A.
   const std::size_t a_coverage = csv.find(",\"coverage\nafter 5000\",0.8,");
   ASSERT_NE(a_coverage, std::string::npos);
   const std::string coverage_line = csv.substr(a_coverage, csv.find("\r\n", a_coverage) - a_coverage);
   EXPECT_NE(coverage_line.find(",B,within noise,0."), std::string::npos) << coverage_line;
+  EXPECT_EQ(coverage_line.substr(coverage_line.size() - 2), ",0") << coverage_line;
 }
 
 TEST(PaperReport, RowCountMismatchThrows) {

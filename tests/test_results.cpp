@@ -327,7 +327,75 @@ TEST_F(TrialStoreTest, UsesWalAndRecordsSchemaVersion) {
   auto store = TrialStore::open(database_path());
   EXPECT_EQ(query_text(database_path(), "PRAGMA journal_mode"), "wal");
   EXPECT_EQ(query_text(database_path(), "SELECT value FROM meta WHERE key = 'schema_version'"),
-            "1");
+            "2");
+}
+
+// A database of schema 1 (before the status `budget`: a budget stop was `node_cap`) as a run of
+// that time wrote it: the schema's own text, three node_cap rows and a series point.
+void write_schema_1_database(const std::string& path) {
+  sqlite3* c = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &c), SQLITE_OK);
+  const char* sql = R"sql(
+PRAGMA journal_mode = WAL;
+CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+INSERT INTO meta VALUES ('schema_version', '1');
+CREATE TABLE trials (
+  id INTEGER PRIMARY KEY, experiment TEXT NOT NULL, suite TEXT NOT NULL, instance TEXT NOT NULL,
+  method TEXT NOT NULL, config TEXT NOT NULL, trial_index INTEGER NOT NULL, seed INTEGER NOT NULL,
+  status TEXT NOT NULL CHECK (status IN ('falsified', 'not_found', 'timeout', 'node_cap', 'error')),
+  validated INTEGER NOT NULL CHECK (validated IN (0, 1)), wall_s REAL NOT NULL, cpu_s REAL NOT NULL,
+  nodes INTEGER NOT NULL, propagations INTEGER NOT NULL, integration_steps INTEGER NOT NULL, witness TEXT,
+  error TEXT, threads INTEGER NOT NULL, host TEXT NOT NULL, git_commit TEXT NOT NULL, started_at TEXT NOT NULL,
+  finished_at TEXT NOT NULL, metrics TEXT NOT NULL DEFAULT '{}',
+  UNIQUE (experiment, suite, instance, method, config, trial_index));
+CREATE TABLE series (trial_id INTEGER NOT NULL REFERENCES trials (id), name TEXT NOT NULL, x REAL NOT NULL,
+  y REAL NOT NULL);
+CREATE INDEX series_by_trial ON series (trial_id, name);
+INSERT INTO trials VALUES (1, 'e', 'cc', '{}', 'cmaes', '{"master_seed":1,"max_nodes":1000000,"options":{"budget":40},"timeout_s":60.0}',
+  0, 1, 'node_cap', 0, 1.0, 1.0, 40, 40, 9, NULL, NULL, 1, 'h', 'g', 's', 'f', '{}');
+INSERT INTO trials VALUES (2, 'e', 'cc', '{}', 'cmaes', '{"master_seed":1,"max_nodes":7,"options":{"budget":40},"timeout_s":60.0}',
+  0, 1, 'node_cap', 0, 1.0, 1.0, 7, 7, 9, NULL, NULL, 1, 'h', 'g', 's', 'f', '{}');
+INSERT INTO trials VALUES (3, 'e', 'navigation', '{}', 'rrt', '{"master_seed":1,"max_nodes":500,"options":{"goal_bias":0.05},"timeout_s":60.0}',
+  0, 1, 'node_cap', 0, 1.0, 1.0, 500, 500, 9, NULL, NULL, 1, 'h', 'g', 's', 'f', '{}');
+INSERT INTO series VALUES (1, 'coverage', 1.0, 0.5);
+)sql";
+  ASSERT_EQ(sqlite3_exec(c, sql, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(c);
+  sqlite3_close(c);
+}
+
+// Schema 1's budget stops read as `budget` (a node_cap row whose config sets a budget and that
+// has fewer nodes than its node cap; the real node caps stay); a reader changes nothing; a
+// writer migrates the file to schema 2, the mapping written, the series kept, and `budget` rows
+// can then be stored.
+TEST_F(TrialStoreTest, ASchema1DatabaseReadsItsBudgetStopsAsBudgetAndIsMigratedByAWriter) {
+  write_schema_1_database(database_path());
+  const auto statuses = [](const std::vector<TrialRecord>& rows) {
+    std::vector<TrialStatus> s;
+    for (const auto& r : rows) s.push_back(r.status);
+    return s;
+  };
+  // load() orders by suite, instance, method, config: the cc rows (max_nodes 1000000, then 7), then navigation.
+  const std::vector<TrialStatus> expected{TrialStatus::budget, TrialStatus::node_cap, TrialStatus::node_cap};
+  {
+    auto reader = TrialStore::open_read_only(database_path());
+    EXPECT_EQ(statuses(reader.load()), expected);
+  }
+  EXPECT_EQ(query_text(database_path(), "SELECT value FROM meta WHERE key = 'schema_version'"), "1");
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM trials WHERE status = 'node_cap'"), "3");
+  {
+    auto writer = TrialStore::open(database_path());
+    const auto rows = writer.load_with_series();
+    EXPECT_EQ(statuses(rows), expected);
+    ASSERT_EQ(rows[0].series.size(), 1u);
+    EXPECT_EQ(rows[0].series[0].first, "coverage");
+    writer.insert(make_record("adaptive", 0, TrialStatus::budget));
+  }
+  EXPECT_EQ(query_text(database_path(), "SELECT value FROM meta WHERE key = 'schema_version'"), "2");
+  EXPECT_EQ(query_text(database_path(), "SELECT status FROM trials WHERE id = 1"), "budget");
+  EXPECT_EQ(query_text(database_path(), "SELECT count(*) FROM trials WHERE status = 'budget'"), "2");
+  EXPECT_EQ(query_text(database_path(), "PRAGMA foreign_key_check"), "<no row>");
+  auto again = TrialStore::open(database_path());  // a second writer finds schema 2: nothing to do
+  EXPECT_EQ(again.load().size(), 4u);
 }
 
 // A child process that dies inside a write transaction in rollback-journal mode, its dirty pages
@@ -498,10 +566,10 @@ INSTANTIATE_TEST_SUITE_P(
         ForeignFile{"UnrelatedSqliteInWalMode",
                     "PRAGMA journal_mode = WAL; CREATE TABLE people (name TEXT); INSERT INTO people VALUES ('ada');",
                     nullptr, "is not a hyfal results database: it has no table 'meta'"},
-        ForeignFile{"SchemaVersion2",
+        ForeignFile{"SchemaVersion3",
                     "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);"
-                    "INSERT INTO meta VALUES ('schema_version', '2'); CREATE TABLE trials (id INTEGER);",
-                    nullptr, "schema version 2 is not supported by this build (reads 1)"},
+                    "INSERT INTO meta VALUES ('schema_version', '3'); CREATE TABLE trials (id INTEGER);",
+                    nullptr, "schema version 3 is not supported by this build (reads 1 and 2)"},
         ForeignFile{"DifferentTrialsTable",
                     "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);"
                     "INSERT INTO meta VALUES ('schema_version', '1');"
@@ -871,6 +939,12 @@ TEST(ToMarkdown, MarksCensoredGroupsOnly) {
   EXPECT_NE(censored.find("\n≥ "), std::string::npos) << censored;
 
   EXPECT_NE(to_markdown(summarize_statuses({falsified, node_cap})).find("≥"), std::string::npos);
+  // A method's spent budget is named as such, apart from the run's node cap, and censors too.
+  const std::string spent = to_markdown(summarize_statuses({falsified, budget, budget, budget, node_cap}));
+  EXPECT_NE(spent.find("| 1 node cap, 3 budget |"), std::string::npos) << spent;
+  EXPECT_NE(spent.find("≥"), std::string::npos) << spent;
+  // CSV: n 2, falsified 0, validated 0, rate 0, timeouts 0, node_caps 0, budgets 2.
+  EXPECT_NE(to_csv(summarize_statuses({budget, budget})).find(",2,0,0,0,0,0,2,0,0,"), std::string::npos);
 }
 
 TEST(ToMarkdown, HeaderAndConfigColumn) {
@@ -907,13 +981,13 @@ TEST(ToCsv, HeaderQuotingAndEmptyNaN) {
   groups[0].instance = R"(at1, "fast")";
   const std::string csv = to_csv(groups);
   const std::string header =
-      "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,"
+      "suite,instance,method,config,n,falsified,validated,falsified_rate,timeouts,node_caps,budgets,"
       "not_found,errors,time_mean_s,time_median_s,time_std_s,time_ci_low_s,time_ci_high_s,"
       "nodes_mean,nodes_median,nodes_std,nodes_ci_low,nodes_ci_high\r\n";
   ASSERT_EQ(csv.substr(0, header.size()), header);
   // One trial: std and CI are NaN, written as empty fields.
   EXPECT_EQ(csv.substr(header.size()),
-            "arch,\"at1, \"\"fast\"\"\",rrt,\"{\"\"budget\"\":1000}\",1,1,0,1,0,0,0,0,"
+            "arch,\"at1, \"\"fast\"\"\",rrt,\"{\"\"budget\"\":1000}\",1,1,0,1,0,0,0,0,0,"
             "1.25,1.25,,,,1000,1000,,,\r\n");
 }
 

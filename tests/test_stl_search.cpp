@@ -185,7 +185,7 @@ TEST(StlSearch, EveryTreeMethodFalsifiesAnStlRequirementAndItsWitnessValidates) 
     if (is_optimizer(*c.job.method)) {
       // An optimiser may spend its budget without falsifying (Nelder-Mead on CC3f does, once);
       // it must never fail, and each falsifies something (below).
-      EXPECT_TRUE(r.status == TrialStatus::falsified || r.status == TrialStatus::node_cap) << c.what << ": " << r.error;
+      EXPECT_TRUE(r.status == TrialStatus::falsified || r.status == TrialStatus::budget) << c.what << ": " << r.error;
       optimizer_falsified[c.job.method->name] += r.status == TrialStatus::falsified;
     } else {
       EXPECT_EQ(r.status, TrialStatus::falsified) << c.what << ": " << r.error;
@@ -369,6 +369,26 @@ TEST(StlSearch, TheValidatorRefusesAHeldSignalThatChangesOffItsGrid) {
   EXPECT_EQ(q.reason.find("changes the input"), std::string::npos) << q.reason;
 }
 
+// A witness whose re-simulated trace ends before its requirement's horizon is a prefix: under
+// `eventually` its offline robustness (speed never above 100 in the first seconds) is negative,
+// yet the car may pass 100 later, so it is refused; under `always` the violation inside the
+// prefix stands whatever follows (the prefix's upper bound < 0), so it is valid.
+TEST(StlSearch, TheValidatorJudgesATraceShorterThanTheHorizonAsAPrefix) {
+  const auto eventually = make("at", {{"requirement", "eventually[0,30] (y1 > 100)"}});
+  const double dt = eventually->info().step_duration;
+  const std::vector<stl::InputPiece> short_signal{{dt, {100.0, 0.0}}, {dt, {100.0, 0.0}}};
+  const ValidationReport r = validate_witness(
+      *eventually, make_witness(*eventually, "hand", 0, stl::trajectory_of_inputs(*eventually, short_signal, {})));
+  ASSERT_TRUE(r.robustness);
+  EXPECT_LT(*r.robustness, 0.0);  // the offline robustness of the prefix alone
+  EXPECT_FALSE(r.valid);
+  EXPECT_NE(r.reason.find("before the requirement's horizon 30"), std::string::npos) << r.reason;
+  const auto always = make("at", {{"requirement", "always[0,30] (y1 < 1)"}});
+  const ValidationReport q =
+      validate_witness(*always, make_witness(*always, "hand", 0, stl::trajectory_of_inputs(*always, short_signal, {})));
+  EXPECT_TRUE(q.valid) << q.reason;
+}
+
 // input_shape = linear: an optimiser searches K + 1 control points on the δt grid, the signal being
 // the line between them, and its witness declares them. The validator holds every piece to that
 // line: a piece's input moved, a control point moved or off the grid, the declaration dropped (then
@@ -435,7 +455,7 @@ TEST(StlSearch, AnOptimiserGoesOnPastACandidateTheValidatorRefuses) {
   const PlannerOutcome o = nm->solve({*sys, sys->info().parameters, 4758125943423951583ULL, {kTrialSeconds, 1000000}});
   ASSERT_TRUE(o.metrics.contains("refused_candidates"));
   EXPECT_GE(o.metrics.at("refused_candidates").get<int>(), 1);
-  ASSERT_TRUE(o.status == TrialStatus::falsified || o.status == TrialStatus::node_cap);
+  ASSERT_TRUE(o.status == TrialStatus::falsified || o.status == TrialStatus::budget);
   EXPECT_GT(o.counters.nodes, 160);  // past the refused candidate, the 160th simulation
   if (o.status == TrialStatus::falsified) {
     const ValidationReport v = validate_witness(*sys, make_witness(*sys, "nelder-mead", 0, *o.trajectory));
@@ -470,7 +490,7 @@ TEST(StlSearch, UniformRandomInBatchesIsTheSequentialSearch) {
         if (one.trajectory) EXPECT_EQ(many.trajectory->final_x, one.trajectory->final_x) << what;
       }
       falsified += one.status == TrialStatus::falsified;
-      capped += one.status == TrialStatus::node_cap;
+      capped += one.status == TrialStatus::budget;
     }
   }
   EXPECT_GT(falsified, 0);

@@ -115,6 +115,15 @@ const SimulatedTrace& InputSimulator::Impl::run_model(std::span<const InputPiece
   }
   outputs.resize(info.outputs.size());
   model->simulate(pieces, p, trace.time, outputs);
+  // The contract (SignalModel): samples up to the input signal's end. A shorter trace would be a
+  // prefix, which a search must not take for the whole signal.
+  double length = 0.0;
+  for (const InputPiece& piece : pieces) length += piece.duration;
+  const double last = trace.time.empty() ? 0.0 : trace.time.back();
+  if (last < length - 1e-9 * std::max(1.0, length))
+    throw std::runtime_error(fmt::format("the model's trace ends at t = {:.6g} s, before the horizon {:.6g} s (its input "
+                                         "signal's end): simulate must return samples up to the last input time",
+                                         last, length));
   const std::size_t n = trace.time.size(), m = info.input_names.size();
   for (std::size_t k = 0; k < outputs.size(); ++k) trace.signals[k] = outputs[k];
   const double safety = system.spec(info.initial_mode, x, p);
@@ -273,21 +282,23 @@ TraceView TraceMonitor::view(const SimulatedTrace& trace, std::size_t samples) {
 
 double TraceMonitor::robustness(const SimulatedTrace& trace) { return monitor_.robustness(view(trace)); }
 
-TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) {
+TraceVerdict judge_prefix(OfflineMonitor& monitor, const TraceView& trace) {
   TraceVerdict v;
-  v.horizon = requirement_.formula.horizon();
+  v.horizon = monitor.formula().horizon();
   const double end = trace.time.empty() ? 0.0 : trace.time.back();
   // The pieces' durations are summed: a trace meant to end at the horizon may fall short of it
   // by rounding.
   v.complete = !std::isfinite(v.horizon) || end >= v.horizon - 1e-9 * std::max(1.0, v.horizon);
   if (v.complete) {
-    const double rho = robustness(trace);
+    const double rho = monitor.robustness(trace);
     v.bounds = {rho, rho};
   } else {
-    v.bounds = monitor_.robustness_interval(view(trace), false);
+    v.bounds = monitor.robustness_interval(trace, false);
   }
   return v;
 }
+
+TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) { return judge_prefix(monitor_, view(trace)); }
 
 Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t samples, bool closed_at_last_time) {
   return monitor_.robustness_interval(view(trace, samples), false, closed_at_last_time);

@@ -70,8 +70,10 @@ class SignalModel {
  public:
   virtual ~SignalModel() = default;
   // The outputs (SystemInfo::outputs order) at `time`, for `pieces` (each u held for its duration)
-  // with parameters p; `time` and each of `outputs` are overwritten. Throws std::runtime_error
-  // with the model's own message when it fails or returns something malformed.
+  // with parameters p; `time` and each of `outputs` are overwritten, `time` reaching the pieces'
+  // end (InputSimulator refuses a shorter trace with std::runtime_error: a model that stops early
+  // breaks its contract). Throws std::runtime_error with the model's own message when it fails or
+  // returns something malformed.
   virtual void simulate(std::span<const InputPiece> pieces, std::span<const double> p, std::vector<double>& time,
                         std::vector<std::vector<double>>& outputs) const = 0;
 };
@@ -136,6 +138,11 @@ struct TraceVerdict {
   bool satisfied() const { return bounds.lower >= 0.0; }
   bool decided() const { return falsified() || satisfied(); }
 };
+
+// The verdict of `trace` (at least one sample) for the monitor's formula: complete when it
+// reaches the formula's horizon (up to 1e-9 relative: durations summed by rounding), judged as
+// TraceVerdict says.
+TraceVerdict judge_prefix(OfflineMonitor& monitor, const TraceView& trace);
 
 // The robustness of traces of one system for one requirement, with its buffers kept.
 class TraceMonitor {

@@ -54,9 +54,14 @@ def test_the_signal_searches_falsify_a_known_overshoot(method):
 
 def test_a_requirement_without_counterexamples_spends_the_budget():
     r = hyfal.falsify(box(), requirement="always[0,10] (x < 3)", method="cmaes", budget=40, trials=2, seed=3)
-    assert list(r["status"]) == ["node_cap"] * 2
+    assert list(r["status"]) == ["budget"] * 2
     assert list(r["simulations"]) == [40.0, 40.0]
     assert all(r["robustness"] > 0)
+    # The run's node cap below the budget is what stops it then.
+    r = hyfal.falsify(box(), requirement="always[0,10] (x < 3)", method="cmaes", budget=40, trials=1, seed=3,
+                      max_nodes=7)
+    assert list(r["status"]) == ["node_cap"]
+    assert list(r["simulations"]) == [7.0]
 
 
 def test_same_seed_same_results_at_any_thread_count():
@@ -110,6 +115,7 @@ def test_a_failing_model_is_a_python_exception(simulate, message):
     ({"signals": ["not a name"]}, "not a name"),
     ({"horizon": 0.0}, "horizon"),
     ({"step": float("nan")}, "step"),
+    ({"horizon": 5.0, "step": 10.0}, "step = 10 is longer than the horizon 5"),
 ])
 def test_a_malformed_black_box_is_a_value_error(kw, message):
     with pytest.raises(ValueError, match=message):
@@ -125,3 +131,29 @@ def test_bad_requirements_and_options_are_python_exceptions():
         hyfal.falsify(box(), requirement=OVERSHOOT, method="cmaes", bogus=1)
     with pytest.raises(TypeError):
         hyfal.falsify(box(), method="cmaes")
+
+
+def short_trace(t, inputs):
+    """A model that breaks its contract: its trace stops at 1 s whatever the input's length."""
+    return np.array([0.0, 1.0]), {"x": np.array([0.0, 2.0])}
+
+
+@pytest.mark.parametrize("method", ["random", "adaptive"])
+def test_a_trace_shorter_than_the_horizon_is_refused_never_a_falsification(method):
+    # At 1 s, x > 3 may still happen before 5 s: a prefix whose offline robustness is -1 proves
+    # nothing, and the model broke its contract (samples up to the input's end).
+    bb = hyfal.BlackBox(simulate=short_trace, inputs={"u": (0.0, 1.0)}, signals=["x"], horizon=5.0, step=1.0)
+    with pytest.raises(RuntimeError, match=r"trial 0: the model's trace ends at t = 1 s, before the horizon 5 s"):
+        hyfal.falsify(bb, requirement="eventually[0,5] (x > 3)", method=method, budget=5, trials=1)
+
+
+def test_falsify_inside_a_model_is_refused_not_a_deadlock():
+    def nested(t, inputs):
+        hyfal.falsify(box(), requirement=OVERSHOOT, method="random", budget=2, trials=1)
+        return oscillator(t, inputs)
+
+    with pytest.raises(RuntimeError, match="falsify cannot be called from inside a model's simulate"):
+        hyfal.falsify(box(nested), requirement=OVERSHOOT, method="random", budget=2, trials=1, threads=2)
+    # The module still works afterwards.
+    r = hyfal.falsify(box(), requirement=OVERSHOOT, method="random", budget=300, trials=1, seed=1)
+    assert r["status"][0] == "falsified"

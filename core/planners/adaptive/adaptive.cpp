@@ -158,7 +158,7 @@ class AdaptiveSearch final : public Planner {
     check_signal_system(ctx.system, o_.horizon, o_.shape, /*parameters=*/false);
     SignalSimulations sims(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon), o_.shape);
     Pass pass(o_, sims, signal_horizon(ctx.system, o_.horizon), ctx.seed);
-    TrialStatus status = TrialStatus::node_cap;
+    TrialStatus status = TrialStatus::budget;
     try {
       status = pass.run();
     } catch (const SearchOver& over) {
@@ -188,7 +188,7 @@ class AdaptiveSearch final : public Planner {
       new_node(0.0);
     }
 
-    // Passes until the budget is spent (node_cap) or every action is dead (not_found); a
+    // Passes until the budget is spent (budget) or every action is dead (not_found); a
     // falsification, the deadline or a cancellation throws SearchOver out of it.
     TrialStatus run() {
       for (std::int64_t i = 0; i < o_.budget; ++i) {
@@ -209,7 +209,7 @@ class AdaptiveSearch final : public Planner {
           }
         }
       }
-      return TrialStatus::node_cap;
+      return TrialStatus::budget;
     }
 
     void add_metrics(Json& metrics) const {

@@ -1,7 +1,7 @@
 // The optimisation falsifiers the field compares against (ARCH-COMP FALS): each minimises the
 // robustness of the system's STL requirement over the control points of a piecewise-constant
 // input signal, one simulation per evaluation, and stops at the first negative robustness
-// (falsified) or when its budget of simulations is spent (node_cap: the count is censored there).
+// (falsified) or when its budget of simulations is spent (budget: the count is censored there).
 //   random             uniform random sampling of the control points (S-TaLiRo's baseline);
 //                      pagmo's random decision vectors
 //   annealing          simulated annealing (S-TaLiRo's default), pagmo::simulated_annealing,
@@ -160,7 +160,7 @@ class OptimizationFalsifier final : public Planner {
     } catch (const SearchOver& over) {
       return objective.outcome(over.status);
     }
-    return objective.outcome(TrialStatus::node_cap);  // unreachable: every search runs until thrown out
+    return objective.outcome(TrialStatus::budget);  // unreachable: every search runs until thrown out
   }
 
  private:

@@ -452,7 +452,7 @@ class ForestSearch {
       return true;
     }
     if (total_.simulated_time >= time_cap_) {  // the simulation budget, checked at the barrier
-      out_.status = TrialStatus::node_cap;
+      out_.status = TrialStatus::budget;
       return true;
     }
     return false;
@@ -815,7 +815,7 @@ MethodEntry rrft_method() {
            batch_option(),
            {"budget", 0,
             "STL requirements: simulation-equivalents per run (simulated time / the requirement's horizon), checked "
-            "at each round's barrier, then the run stops as node_cap; 0 = no cap (ARCH-COMP: 1500)",
+            "at each round's barrier, then the run stops as budget; 0 = no cap (ARCH-COMP: 1500)",
             "[0, 100000000]", 0}},
           [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
           check_rrft_system, false, /*searches_parameters=*/true};

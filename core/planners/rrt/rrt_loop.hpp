@@ -109,7 +109,7 @@ inline OptionSpec robustness_bias_option() {
 inline OptionSpec simulation_budget_option() {
   return {"budget", 0,
           "STL requirements: simulation-equivalents per run (simulated time / the requirement's horizon), "
-          "then the run stops as node_cap; 0 = no cap (ARCH-COMP: 1500)",
+          "then the run stops as budget; 0 = no cap (ARCH-COMP: 1500)",
           "[0, 100000000]"};
 }
 
@@ -181,7 +181,7 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
   // The budgets every step checks: time, cancellation, nodes, then simulations.
   const auto exhausted = [&]() -> std::optional<TrialStatus> {
     if (auto why = budget.exhausted(c.nodes)) return why;
-    if (c.simulated_time >= time_cap) return TrialStatus::node_cap;
+    if (c.simulated_time >= time_cap) return TrialStatus::budget;
     return std::nullopt;
   };
   guided.indexed(root);
