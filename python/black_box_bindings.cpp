@@ -140,9 +140,10 @@ void bind_black_box(py::module_& m) {
 
 simulate(time, inputs) -> (time, signals): time is a 1-D array (0, then the end of each input piece of `step`
 seconds), inputs a dict name -> array (value k held from time[k] to time[k + 1], the last repeating the one before);
-it returns the model's own sample times (from >= 0, non-decreasing) and a dict holding each of `signals` at them.
-inputs: name -> (lo, hi). horizon: the input signal's length, s (unless a requirement's is given to falsify);
-step: δt, the input pieces' length. STL formulas read the signals and the inputs by name.
+it returns the model's own sample times (from >= 0, non-decreasing, reaching time[-1]: a shorter trace is a
+RuntimeError, never judged as the whole) and a dict holding each of `signals` at them. It must not call
+hyfal.falsify (RuntimeError). inputs: name -> (lo, hi). horizon: the input signal's length, s (unless a requirement's
+is given to falsify); step: δt, the input pieces' length, at most the horizon. STL formulas read the signals and the inputs by name.
 
 hyfal.falsify(box, requirement=..., method=...) drives it with the searches over input signals (random, annealing,
 cmaes, nelder-mead, adaptive, adaptive-local); a witness is re-checked by calling simulate again. The adaptive

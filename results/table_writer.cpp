@@ -72,7 +72,7 @@ std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<
                         const std::vector<std::vector<std::string>>& labels) {
   std::vector<std::string> header = label_header;
   for (const char* name : {"n", "falsified", "rate", "time median (s)", "time mean ± 95% CI (s)",
-                           "time std", "nodes median", "nodes mean ± 95% CI", "nodes std", "timeouts"})
+                           "time std", "nodes median", "nodes mean ± 95% CI", "nodes std", "stopped"})
     header.emplace_back(name);
   // STL requirements: robustness and simulation-equivalents, where some group has them.
   const bool stl = std::any_of(groups.begin(), groups.end(), [](const GroupSummary& g) { return g.has_requirement_data(); });
@@ -113,9 +113,9 @@ std::string to_markdown(std::span<const GroupSummary> groups, const std::vector<
 
   if (any_censored)
     table += fmt::format(
-        "\n{} right-censored: the group has trials stopped by the time limit (⏱) or the node "
-        "cap, counted with the time and nodes they had when stopped, so the true value is at "
-        "least this.\n",
+        "\n{} right-censored: the group has trials stopped by the time limit (⏱), the node cap "
+        "or the method's budget, counted with the time and nodes they had when stopped, so the "
+        "true value is at least this.\n",
         kAtLeast);
   return table;
 }

@@ -14,7 +14,7 @@ namespace hyfal {
 //   time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | nodes std | timeouts
 // The config column appears only when the groups differ in config. A group with timed-out or
 // node-capped trials has its time and nodes medians and means prefixed with "≥" (they are lower
-// bounds) and its timeouts cell reads e.g. "3 ⏱" (plus "2 node cap" for node caps, "4 budget" for trials that
+// bounds) and its "stopped" cell reads e.g. "3 ⏱" (plus "2 node cap" for node caps, "4 budget" for trials that
 // spent their method's budget); a footnote line below the table then explains "≥". Missing statistics (e.g. a CI of one trial) read "–".
 std::string to_markdown(std::span<const GroupSummary> groups);
 

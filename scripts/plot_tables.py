@@ -591,7 +591,8 @@ def read_experiment_table(path):
             raise InputError(f"{path}: missing column {column}")
         value = r[column].strip()
         n = int(parse_float(path, i, r["n"] or "0"))
-        stopped = int(parse_float(path, i, r["timeouts"] or "0")) + int(parse_float(path, i, r["node_caps"] or "0"))
+        stopped = (int(parse_float(path, i, r["timeouts"] or "0")) + int(parse_float(path, i, r["node_caps"] or "0"))
+                   + int(parse_float(path, i, r.get("budgets") or "0")))  # tables before 2026-12-07 have no budgets
         baseline = baseline or (r["baseline"].strip() or None)
         cell = {"column": r["column"], "ours": parse_float(path, i, value) if value else None, "n": n,
                 "timeouts": stopped if bounded else 0, "censored": bounded and stopped > 0, "paper": ""}

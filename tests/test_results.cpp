@@ -952,7 +952,7 @@ TEST(ToMarkdown, HeaderAndConfigColumn) {
   const std::string table = to_markdown(one_config);
   EXPECT_EQ(table.substr(0, table.find('\n')),
             "| suite | instance | method | n | falsified | rate | time median (s) | "
-            "time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | nodes std | timeouts |");
+            "time mean ± 95% CI (s) | time std | nodes median | nodes mean ± 95% CI | nodes std | stopped |");
 
   std::vector<GroupSummary> two_configs = one_config;
   two_configs.push_back(one_config.front());
