@@ -448,8 +448,9 @@ parameter). budget: the method's `budget` option (simulations for the optimisers
 trees). timeout, max_nodes, seed: `--timeout`, `--max-nodes`, `--seed`. Further keywords: suite parameters or method
 options (`--set key=value`).
 
-Returns a dict of numpy arrays, one entry per trial (trial_index order): the results database's columns (status,
-nodes, propagations, wall_s, ...), robustness and simulations (NaN where a trial has none), and witness (a
+Returns a dict of numpy arrays, one entry per trial (trial_index order): the results database's columns (status:
+falsified, not_found, timeout, node_cap (max_nodes reached), budget (the method's budget spent) or error; nodes,
+propagations, wall_s, ...), robustness and simulations (NaN where a trial has none), and witness (a
 hyfal.Witness for a falsifying trial, else None). pandas.DataFrame(result) works.)doc");
 
   m.def(
