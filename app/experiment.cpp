@@ -114,9 +114,7 @@ int cmd_run_experiment(const ExperimentArgs& a) {
     spec.seed = e.seed;
     try {
       groups.push_back(resolve_trial_group(spec));
-    } catch (const std::invalid_argument& error) {  // OptionError
-      throw UsageError(fmt::format("{}: {} on {}: {}", a.file, g.method_label, g.suite->name, error.what()));
-    } catch (const UsageError& error) {
+    } catch (const std::invalid_argument& error) {  // an InputError, or a suite's own refusal
       throw UsageError(fmt::format("{}: {} on {}: {}", a.file, g.method_label, g.suite->name, error.what()));
     }
   }

@@ -287,8 +287,8 @@ void read_run_keys(const TomlReader& r, const toml::table& root, ExperimentFile&
   const toml::node& name_node = r.require(root, "", "name");
   e.name = r.string(name_node, "name");
   try {
-    cli::check_experiment_name(e.name);
-  } catch (const cli::UsageError& error) {
+    check_experiment_name(e.name);
+  } catch (const UsageError& error) {
     r.fail(name_node, "name", error.what());
   }
   e.trials = static_cast<int>(r.integer(r.require(root, "", "trials"), "trials", 1, kMaxTrials));

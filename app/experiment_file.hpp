@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/paper_table.hpp"
 #include "core/suite.hpp"
 #include "results/table_writer.hpp"
@@ -19,8 +20,10 @@ namespace hyfal {
 // A table or experiment file that cannot be used. The message is one line naming the file, the
 // line and column, and the key: "FILE:LINE:COLUMN: KEY: what is wrong" ("FILE:LINE:COLUMN: what"
 // for a TOML syntax error). The CLI reports it as a bad input (exit 2) before anything is written.
-class ExperimentFileError : public std::invalid_argument {
-  using std::invalid_argument::invalid_argument;
+class ExperimentFileError : public InputError {
+ public:
+  using InputError::InputError;
+  const char* name() const noexcept override { return "ExperimentFileError"; }
 };
 
 // Reads a paper table from the TOML `text` of the file `file_name` (used in messages only).

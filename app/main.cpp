@@ -44,7 +44,6 @@ using namespace hyfal;
 namespace {
 
 // A bad input: reported as one line, exit code 2.
-using cli::UsageError;
 
 void write_output(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
@@ -146,16 +145,16 @@ struct RunArgs {
 };
 
 int cmd_run(const RunArgs& a) {
-  cli::check_output_path(a.db, "--db");
-  cli::check_output_path(a.witness_dir, "--witness-dir");
-  cli::check_experiment_name(a.experiment);
+  check_output_path(a.db, "--db");
+  check_output_path(a.witness_dir, "--witness-dir");
+  check_experiment_name(a.experiment);
   const SuiteEntry* suite = find_suite(a.suite);
   if (!suite) throw UsageError(fmt::format("unknown suite '{}' (see 'hyfal list')", a.suite));
   const MethodEntry* method = find_method(a.method);
   if (!method) throw UsageError(fmt::format("unknown method '{}' (see 'hyfal list')", a.method));
-  const cli::Shard shard = cli::shard_option(a.shard);
-  cli::check_directory_creatable(a.witness_dir, "--witness-dir");
-  cli::TrialGroupSpec spec;
+  const Shard shard = shard_option(a.shard);
+  check_directory_creatable(a.witness_dir, "--witness-dir");
+  TrialGroupSpec spec;
   spec.experiment = a.experiment;
   spec.suite = suite;
   spec.method = method;
@@ -164,9 +163,9 @@ int cmd_run(const RunArgs& a) {
   spec.timeout_s = a.timeout;
   spec.max_nodes = a.max_nodes;
   spec.seed = a.seed;
-  const cli::TrialGroup group = cli::resolve_trial_group(spec);
+  const TrialGroup group = resolve_trial_group(spec);
 
-  cli::RunOptions options;
+  RunOptions options;
   options.threads = a.threads;
   options.db = a.db;
   options.witness_dir = a.witness_dir;
@@ -175,7 +174,7 @@ int cmd_run(const RunArgs& a) {
   options.progress = !a.quiet && isatty(STDERR_FILENO);
   options.quiet = a.quiet;
   options.save_trees = a.save_trees;
-  const auto run = cli::run_groups(fmt::format("{} on {}", method->name, suite->name), {&group}, options);
+  const auto run = run_groups(fmt::format("{} on {}", method->name, suite->name), {&group}, options);
   if (!run) return 0;  // --plan
   const std::vector<TrialRecord>& rows = run->trials[0];
   const auto groups = summarize_trials(rows);
@@ -200,11 +199,11 @@ int cmd_table(const std::string& db, const std::string& experiment, const std::s
   // writes each to DIR/<k>-<suite>.log, as OMPL's tools read one experiment per file.
   const bool log_dir = format == "ompl-log" && !output.empty() && (output.back() == '/' || fs::is_directory(output));
   if (log_dir) {
-    cli::check_directory_creatable(output, "-o");
+    check_directory_creatable(output, "-o");
   } else if (!output.empty() && output != "-") {
     if (fs::is_directory(output)) throw UsageError(fmt::format("-o '{}' is a directory", output));
     const fs::path parent = fs::path(output).parent_path();
-    cli::check_directory_creatable(parent.empty() ? "." : parent.string(), "-o");
+    check_directory_creatable(parent.empty() ? "." : parent.string(), "-o");
   }
   TrialStore store = TrialStore::open_read_only(db);
   const auto rows = store.load(experiment.empty() ? std::nullopt : std::optional<std::string>(experiment));
@@ -262,10 +261,9 @@ int cmd_instance_export(const std::string& suite_name, const std::vector<std::st
 int cmd_validate(const std::string& file) {
   // Names and values quoted from the file may hold control characters (a JSON "\n"): escaped,
   // so that an error stays one line.
-  using cli::one_line;
   Witness w;
   try {
-    w = witness_from_text(cli::read_input_file(file));
+    w = witness_from_text(read_input_file(file));
   } catch (const WitnessError& e) {
     throw UsageError(one_line(fmt::format("'{}': {}", file, e.what())));
   }
@@ -333,8 +331,8 @@ CLI::Validator integer_in(long long lo, long long hi) {
 CLI::Validator shard_text() {
   return CLI::Validator(
       [](std::string& s) {
-        return cli::parse_shard(s) ? std::string()
-                                   : fmt::format("'{}' is not a shard i/K with 0 <= i < K <= {}", s, cli::kMaxShards);
+        return parse_shard(s) ? std::string()
+                                   : fmt::format("'{}' is not a shard i/K with 0 <= i < K <= {}", s, kMaxShards);
       },
       "i/K");
 }
@@ -369,11 +367,11 @@ int main(int argc, char** argv) {
       if (!suite) return std::shared_ptr<const System>();
       return suite->make(Json::parse(instance));
     };
-    return cluster->serve(resolve, cli::git_commit());
+    return cluster->serve(resolve, git_commit());
   }
   if (cluster) {
     try {
-      cluster->check_ranks(cli::git_commit());
+      cluster->check_ranks(git_commit());
     } catch (const ClusterError& e) {
       fmt::print(stderr, "hyfal: error: {}\n", e.what());
       cluster->finish(e.exit_code());
@@ -433,9 +431,9 @@ void add_run_command(CommandLine& c) {
   run->add_option("--method", c.run_args.method, "method name")->capture_default_str();
   run->add_option("--set", c.run_args.sets, "instance parameter or method option, key=value (repeatable)");
   run->add_option("--trials", c.run_args.trials, "number of trials (indices 0..N-1), at most 1000000")
-      ->check(integer_in(1, cli::kMaxTrials))->capture_default_str();
+      ->check(integer_in(1, kMaxTrials))->capture_default_str();
   run->add_option("--threads", c.run_args.threads, "worker threads, 0 = all cores, at most 1024")
-      ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
+      ->check(integer_in(0, kMaxThreads))->capture_default_str();
   run->add_option("--timeout", c.run_args.timeout, "per-trial wall-clock limit, seconds (any positive number; very large = no limit)")
       ->check(positive_number())->capture_default_str();
   run->add_option("--max-nodes", c.run_args.max_nodes, "per-trial node cap")->check(positive_integer())->capture_default_str();
@@ -485,7 +483,7 @@ void add_reproduce_command(CommandLine& c) {
       ->required()
       ->check(CLI::IsMember({"smoke", "quick", "full", "paper", "published"}));
   reproduce->add_option("--threads", c.reproduce_args.threads, "worker threads, 0 = all cores, at most 1024")
-      ->check(integer_in(0, cli::kMaxThreads))->capture_default_str();
+      ->check(integer_in(0, kMaxThreads))->capture_default_str();
   reproduce->add_option("--seed", c.reproduce_args.seed, "master seed; trial seeds derive from it, the suite, instance, method and index")
       ->check(non_negative_integer())
       ->capture_default_str();
@@ -645,31 +643,16 @@ int dispatch(CommandLine& c) {
 }
 
 // The exception a command threw (call it in a catch block) as one line on stderr and its exit
-// code: 2 for bad input, 3 for a machine that failed (a rerun resumes), 1 for anything else.
+// code, classified by core/error.hpp: 2 for bad input, 3 for a machine that failed (a rerun
+// resumes), 1 for anything else.
 int report_failure() {
   try {
     throw;
-  } catch (const UsageError& e) {
-    fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return 2;
-  } catch (const OptionError& e) {
-    fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return 2;
-  } catch (const ExperimentFileError& e) {
-    fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return 2;
-  } catch (const StoreError& e) {
-    fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return e.kind() == StoreErrorKind::environment ? 3 : 2;  // 3: the machine failed, not the input
-  } catch (const EnvironmentError& e) {
-    fmt::print(stderr, "hyfal: error: {} (the run stopped; rerun the same command to resume)\n", e.what());
-    return 3;
-  } catch (const ClusterError& e) {
-    fmt::print(stderr, "hyfal: error: {} (the run stopped; rerun the same command to resume)\n", e.what());
-    return e.exit_code();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hyfal: error: {}\n", e.what());
-    return 1;
+    const int code = exit_code_of(e);
+    fmt::print(stderr, "hyfal: error: {}{}\n", e.what(),
+               code == 3 ? " (the run stopped; rerun the same command to resume)" : "");
+    return code;
   }
 }
 

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-namespace hyfal::cli {
+namespace hyfal {
 
 namespace {
 
@@ -80,4 +80,4 @@ int print_plan(const std::string& what, const std::vector<const TrialGroup*>& gr
   return 0;
 }
 
-}  // namespace hyfal::cli
+}  // namespace hyfal

@@ -7,7 +7,7 @@
 #include "app/runner.hpp"
 #include "app/shard.hpp"
 
-namespace hyfal::cli {
+namespace hyfal {
 
 // Prints the plan of the trial groups (in job-list order; groups sharing trials are counted
 // once) restricted to the shard. Creates and changes no file: the database is opened read-only,
@@ -15,4 +15,4 @@ namespace hyfal::cli {
 int print_plan(const std::string& what, const std::vector<const TrialGroup*>& groups, const Shard& shard,
                const std::string& db);
 
-}  // namespace hyfal::cli
+}  // namespace hyfal

@@ -162,8 +162,6 @@ int reproduce_sweep(const ReproduceArgs& a, const SuiteEntry* suite, const Paper
             cells.push_back({b, r, c, resolve_trial_group(spec)});
           } catch (const std::invalid_argument& e) {
             throw UsageError(fmt::format("table '{}' row '{}': {}", table.id, row.label, e.what()));
-          } catch (const UsageError& e) {
-            throw UsageError(fmt::format("table '{}' row '{}': {}", table.id, row.label, e.what()));
           }
         }
     }
@@ -281,8 +279,6 @@ int reproduce_league(const ReproduceArgs& a, const PaperTable& table, const Tabl
         continue;
       } catch (const std::invalid_argument& e) {
         throw UsageError(fmt::format("table '{}' cell '{}' x '{}': {}", table.id, l.rows[i].label, l.columns[c].label, e.what()));
-      } catch (const UsageError& e) {
-        throw UsageError(fmt::format("table '{}' cell '{}' x '{}': {}", table.id, l.rows[i].label, l.columns[c].label, e.what()));
       }
       places.emplace_back(i, c);
     }
@@ -355,9 +351,7 @@ int cmd_reproduce(const ReproduceArgs& a) {
     spec.seed = a.seed;
     try {
       groups.push_back(resolve_trial_group(spec));
-    } catch (const std::invalid_argument& e) {  // OptionError
-      throw UsageError(fmt::format("table '{}' row '{}': {}", table->id, row.label, e.what()));
-    } catch (const UsageError& e) {
+    } catch (const std::invalid_argument& e) {  // an InputError, or a suite's own refusal
       throw UsageError(fmt::format("table '{}' row '{}': {}", table->id, row.label, e.what()));
     }
   }

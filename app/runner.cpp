@@ -29,7 +29,7 @@
 
 namespace fs = std::filesystem;
 
-namespace hyfal::cli {
+namespace hyfal {
 
 std::string git_commit() {
   std::string out;
@@ -127,8 +127,10 @@ TrialGroup resolve_trial_group(const TrialGroupSpec& spec) {
   g.options = resolve_options(method->options, method_sets);
   try {
     g.system = suite->make(g.instance);
+  } catch (const InputError&) {
+    throw;  // hyfal's own (a RequirementError...) keeps its class
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw UsageError(e.what());  // a suite's own refusal
   }
   // The method's own checks (relations between options, what it needs of the system) run here,
   // once, so that a bad combination is reported before the database is opened, not per trial.
@@ -315,4 +317,4 @@ std::optional<GroupsRun> run_groups(const std::string& what, const std::vector<c
   return run;
 }
 
-}  // namespace hyfal::cli
+}  // namespace hyfal

@@ -13,22 +13,25 @@
 #include <vector>
 
 #include "app/shard.hpp"
+#include "core/error.hpp"
 #include "core/paper_table.hpp"
 #include "core/suite.hpp"
 #include "parallel/trial_engine.hpp"
 #include "results/store.hpp"
 
-namespace hyfal::cli {
+namespace hyfal {
 
 // A bad input: reported as one line on stderr, exit code 2, before anything is written.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+struct UsageError : InputError {
+  using InputError::InputError;
+  const char* name() const noexcept override { return "UsageError"; }
 };
 
 // A method that cannot drive the suite at all (check_method_for_system): a usage error for
 // `hyfal run`, a cell that does not apply ("n/a") in a league.
 struct MethodNotApplicable : UsageError {
   using UsageError::UsageError;
+  const char* name() const noexcept override { return "MethodNotApplicable"; }
 };
 
 // The short commit of the source tree hyfal was built from, or "unknown".
@@ -172,4 +175,4 @@ std::string one_line(std::string_view text);
 // The text of an input file; throws UsageError naming the file if it cannot be read.
 std::string read_input_file(const std::string& path);
 
-}  // namespace hyfal::cli
+}  // namespace hyfal

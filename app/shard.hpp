@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-namespace hyfal::cli {
+namespace hyfal {
 
 constexpr std::int64_t kMaxShards = 100'000;
 
@@ -46,4 +46,4 @@ inline std::optional<Shard> parse_shard(std::string_view text) {
   return Shard{*i, *k};
 }
 
-}  // namespace hyfal::cli
+}  // namespace hyfal

@@ -22,7 +22,7 @@
 
 namespace hyfal::table_file {
 
-using cli::one_line;  // a key or value quoted from the file may hold control characters
+using ::hyfal::one_line;  // a key or value quoted from the file may hold control characters
 
 inline std::string_view type_name(const toml::node& node) {
   switch (node.type()) {
@@ -208,7 +208,7 @@ inline Settings read_settings(const TomlReader& r, const toml::node& node, const
   return settings;
 }
 
-using cli::kMaxTrials;  // the limit `hyfal run --trials` has
+using ::hyfal::kMaxTrials;  // the limit `hyfal run --trials` has
 
 // What every profile has: trials, the per-trial caps (required), and settings for every row
 // (optional; not read here, since what may hold them differs between kinds of table).

@@ -5,15 +5,9 @@
 #include <string>
 #include <string_view>
 
-namespace hyfal {
+#include "core/error.hpp"
 
-// A failure of the machine, not of the input or of a trial: a file that cannot be written (disk
-// full, permission lost, its folder gone). A run cannot keep the trial's result, so it stops; the
-// command exits with code 3, and a rerun resumes.
-class EnvironmentError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace hyfal {
 
 // Writes text to path through path.tmp and a rename, creating the parent folders: path holds
 // either what it held before or all of text, never a part. Throws EnvironmentError, one line

@@ -7,12 +7,16 @@
 #include <utility>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/planner.hpp"
 
 namespace hyfal {
 
-class OptionError : public std::invalid_argument {
-  using std::invalid_argument::invalid_argument;
+// A setting that does not resolve: an unknown key, a value of the wrong type or out of range.
+class OptionError : public InputError {
+ public:
+  using InputError::InputError;
+  const char* name() const noexcept override { return "OptionError"; }
 };
 
 // The valid values of a setting, parsed from OptionSpec::range (see core/planner.hpp).

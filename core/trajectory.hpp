@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/held_input.hpp"
 
 #include "core/model.hpp"
@@ -72,8 +73,11 @@ struct Witness {
 // The witness of a trajectory of `system`, with the names and instance the system declares.
 Witness make_witness(const System& system, std::string method, std::int64_t trial_seed, Trajectory trajectory);
 
-class WitnessError : public std::runtime_error {
-  using std::runtime_error::runtime_error;
+// A witness file that cannot be read: not JSON, or a field missing, mistyped or out of range.
+class WitnessError : public InputError {
+ public:
+  using InputError::InputError;
+  const char* name() const noexcept override { return "WitnessError"; }
 };
 
 Json to_json(const Witness& w);

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "parallel/trial_engine.hpp"
 #include "parallel/trial_wire.hpp"
 
@@ -25,15 +26,32 @@ namespace hyfal {
 
 // A failure of the distributed run's set-up: hyfal built without MPI but launched by mpirun,
 // ranks built from different sources, a worker that cannot run trials. One line.
-class ClusterError : public std::runtime_error {
+// The mixin of ClusterSetupError and ClusterFailure (core/error.hpp), so that
+// `catch (const ClusterError&)` sees both.
+class ClusterError {
  public:
-  // exit_code: 2 for a set-up the user can fix (builds differ, no MPI in this build), 3 for a
-  // machine that failed (a rank cannot start its threads).
-  ClusterError(int exit_code, const std::string& what) : std::runtime_error(what), exit_code_(exit_code) {}
-  int exit_code() const noexcept { return exit_code_; }
+  virtual ~ClusterError() = default;
+  virtual const char* what() const noexcept = 0;
+  // 2 for a set-up the user can fix, 3 for a machine that failed.
+  virtual int exit_code() const noexcept = 0;
+};
 
- private:
-  int exit_code_;
+// A set-up the user can fix: builds differ between ranks, no MPI in this build (exit 2).
+class ClusterSetupError : public InputError, public ClusterError {
+ public:
+  using InputError::InputError;
+  const char* what() const noexcept override { return InputError::what(); }
+  int exit_code() const noexcept override { return 2; }
+  const char* name() const noexcept override { return "ClusterSetupError"; }
+};
+
+// A machine that failed: a rank cannot start its threads, a peer went silent (exit 3).
+class ClusterFailure : public EnvironmentError, public ClusterError {
+ public:
+  using EnvironmentError::EnvironmentError;
+  const char* what() const noexcept override { return EnvironmentError::what(); }
+  int exit_code() const noexcept override { return 3; }
+  const char* name() const noexcept override { return "ClusterFailure"; }
 };
 
 // This process's rank as the MPI launcher announces it in the environment (0 when none): before

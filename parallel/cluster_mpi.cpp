@@ -111,7 +111,7 @@ class MpiLink {
     if (!init_error_.empty()) {
       lock.unlock();
       thread_.join();
-      throw ClusterError(3, init_error_);
+      throw ClusterFailure(init_error_);
     }
   }
   MpiLink(const MpiLink&) = delete;
@@ -478,7 +478,7 @@ void MpiCluster::on_hello(int w, const Event& e, const std::string& git_commit) 
   if (hello.value("protocol", 0) != kProtocol || theirs != mine) {
     worker.state = Worker::refused;
     link_.send(w, kRefuse, {});
-    throw ClusterError(2, fmt::format("rank {} (host {}) runs hyfal built from '{}' (protocol {}), rank 0 from '{}' "
+    throw ClusterSetupError(fmt::format("rank {} (host {}) runs hyfal built from '{}' (protocol {}), rank 0 from '{}' "
                                       "(protocol {}): every rank must run the same build",
                                       w, worker.host, theirs, hello.value("protocol", 0), mine, kProtocol));
   }
@@ -594,7 +594,7 @@ class MpiCluster::Run {
       case kHello: c_.on_hello(e.peer, e, options_.git_commit); break;
       case kFatal:
         c_.workers_[e.peer].state = Worker::dead;
-        throw ClusterError(3, fmt::format("rank {} (host {}): {}", e.peer, c_.workers_[e.peer].host,
+        throw ClusterFailure(fmt::format("rank {} (host {}): {}", e.peer, c_.workers_[e.peer].host,
                                           uncbor(e.bytes).value("message", std::string("failed"))));
       case kLost: requeue_lost(e.peer); break;
       default: break;

@@ -7,7 +7,7 @@ Cluster* Cluster::current() { return nullptr; }
 
 std::unique_ptr<Cluster> Cluster::join_if_launched(int*, char***) {
   if (launcher_size() > 1)
-    throw ClusterError(2, "this hyfal was built without MPI, so it cannot run as one of several ranks: install "
+    throw ClusterSetupError("this hyfal was built without MPI, so it cannot run as one of several ranks: install "
                           "libopenmpi-dev (scripts/setup.sh does) and rebuild, or run it as one process");
   return nullptr;
 }

@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "core/black_box.hpp"
-#include "python/common.hpp"
+#include "python/conversions.hpp"
 
 namespace hyfal::python {
 

@@ -73,14 +73,17 @@ class PythonModel final : public stl::SignalModel {
     if (!py::isinstance<py::tuple>(result) || py::len(result) != 2)
       throw std::runtime_error("the model's simulate must return (time, signals): a 1-D array and a dict name -> array");
     const py::tuple pair = result.cast<py::tuple>();
+    // The conversions' own checks (python/conversions.hpp), read as the model's fault: the trial
+    // fails with the message (falsify raises it as RuntimeError).
     const auto as_vector = [](py::handle obj, const std::string& what) {
-      const py::array_t<double, py::array::c_style | py::array::forcecast> a =
-          py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
-      if (!a || a.ndim() != 1) throw std::runtime_error(fmt::format("the model's {} is not a 1-D array of numbers", what));
-      std::vector<double> v(a.data(), a.data() + a.size());
-      for (std::size_t k = 0; k < v.size(); ++k)
-        if (!std::isfinite(v[k])) throw std::runtime_error(fmt::format("the model's {} holds {} at index {}", what, v[k], k));
-      return v;
+      try {
+        const DoubleArray a = to_vector(obj, "the model's " + what);
+        const auto n = static_cast<std::size_t>(a.shape(0));
+        require_finite(a.data(), n, "the model's " + what);
+        return std::vector<double>(a.data(), a.data() + n);
+      } catch (const py::builtin_exception& e) {
+        throw std::runtime_error(e.what());
+      }
     };
     time = as_vector(pair[0], "time");
     if (time.empty()) throw std::runtime_error("the model's time is empty");
@@ -125,11 +128,8 @@ BlackBox make(py::function simulate, const py::dict& inputs, const std::vector<s
   spec.step = step;
   BlackBox box;
   box.spec = spec;
-  try {
-    box.system = make_black_box(spec, std::make_shared<PythonModel>(std::move(simulate), spec.input_names, signals));
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+  // A refusal (step > horizon, ...): ValueError, from make_black_box's std::invalid_argument.
+  box.system = make_black_box(spec, std::make_shared<PythonModel>(std::move(simulate), spec.input_names, signals));
   return box;
 }
 

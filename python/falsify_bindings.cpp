@@ -27,7 +27,8 @@
 #include "core/requirements/requirement.hpp"
 #include "core/rng.hpp"
 #include "python/black_box.hpp"
-#include "python/common.hpp"
+#include "python/bindings.hpp"
+#include "python/conversions.hpp"
 #include "python/suite.hpp"
 #include "results/store.hpp"
 #include "suites/registry.hpp"
@@ -195,10 +196,10 @@ std::string read_text(const std::string& path) {
 // The checks every falsify() makes of its run options; the master seed.
 std::uint64_t check_run_options(long long trials, long long threads, py::handle seed_arg, double timeout,
                                 long long max_nodes, const std::string& experiment) {
-  if (trials < 1 || trials > cli::kMaxTrials)
-    throw py::value_error(fmt::format("trials={}: must be in [1, {}]", trials, cli::kMaxTrials));
-  if (threads < 0 || threads > cli::kMaxThreads)
-    throw py::value_error(fmt::format("threads={}: must be in [0, {}] (0: all cores)", threads, cli::kMaxThreads));
+  if (trials < 1 || trials > kMaxTrials)
+    throw py::value_error(fmt::format("trials={}: must be in [1, {}]", trials, kMaxTrials));
+  if (threads < 0 || threads > kMaxThreads)
+    throw py::value_error(fmt::format("threads={}: must be in [0, {}] (0: all cores)", threads, kMaxThreads));
   if (!(timeout > 0.0)) throw py::value_error(fmt::format("timeout={}: must be a positive number of seconds", timeout));
   if (max_nodes < 1) throw py::value_error(fmt::format("max_nodes={}: must be at least 1", max_nodes));
   if (!py::isinstance<py::int_>(seed_arg) || py::isinstance<py::bool_>(seed_arg))
@@ -209,7 +210,7 @@ std::uint64_t check_run_options(long long trials, long long threads, py::handle 
   } catch (const py::cast_error&) {
     throw py::value_error("seed: an integer in [0, 2^64)");
   }
-  cli::check_experiment_name(experiment);
+  check_experiment_name(experiment);
   return seed;
 }
 
@@ -218,7 +219,7 @@ std::uint64_t check_run_options(long long trials, long long threads, py::handle 
 // behind. The per-trial columns, trial_index order.
 py::dict run_and_collect(const std::vector<TrialJob>& jobs, long long threads, const Suite& suite_of_group) {
   TemporaryFolder folder;
-  EngineOptions engine = cli::make_engine_options(static_cast<int>(threads), folder.path(), false);
+  EngineOptions engine = make_engine_options(static_cast<int>(threads), folder.path(), false);
   auto records = run_released<std::vector<TrialRecord>>([&](std::stop_token stop) {
     EngineOptions eo = engine;
     eo.cancel = stop;
@@ -270,14 +271,12 @@ py::dict falsify_black_box(const BlackBox& box, py::handle requirement, const st
     sets.emplace_back("horizon", fmt::format("{}", box.spec.horizon));  // the box's signal length
   std::shared_ptr<const System> system;
   Json resolved;
-  try {
-    system = stl::with_requirement(box.system, requirement.cast<std::string>());
-    check_method_for_system(method, *system);
-    resolved = resolve_options(method.options, sets);
-    if (method.check_system) method.check_system(*system, resolved);
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+  // Refusals are ValueErrors: hyfal's own as their classes (python/module.cpp), a plain
+  // std::invalid_argument as ValueError (pybind11's translation).
+  system = stl::with_requirement(box.system, requirement.cast<std::string>());
+  check_method_for_system(method, *system);
+  resolved = resolve_options(method.options, sets);
+  if (method.check_system) method.check_system(*system, resolved);
   const std::string instance = system->info().instance.dump();
   const Json config = {{"master_seed", seed}, {"max_nodes", max_nodes}, {"timeout_s", timeout},
                        {"options", canonical_instance(method.options, resolved)}};
@@ -348,10 +347,10 @@ py::dict falsify(py::handle suite_arg, py::handle requirement, const std::string
                                       "options: {})",
                                       suite->name, method.name, key, option_names(suite->parameters),
                                       option_names(method.options)));
-  cli::overlay_settings(settings, extra);  // a keyword replaces the Suite's value of the same key
+  overlay_settings(settings, extra);  // a keyword replaces the Suite's value of the same key
   const std::uint64_t seed = check_run_options(trials, threads, seed_arg, timeout, max_nodes, experiment);
 
-  cli::TrialGroupSpec spec;
+  TrialGroupSpec spec;
   spec.experiment = experiment;
   spec.suite = suite;
   spec.method = &method;
@@ -360,8 +359,8 @@ py::dict falsify(py::handle suite_arg, py::handle requirement, const std::string
   spec.timeout_s = timeout;
   spec.max_nodes = max_nodes;
   spec.seed = seed;
-  const cli::TrialGroup group = cli::resolve_trial_group(spec);
-  const std::vector<TrialJob> jobs = cli::prepare_jobs(group, {});
+  const TrialGroup group = resolve_trial_group(spec);
+  const std::vector<TrialJob> jobs = prepare_jobs(group, {});
   return run_and_collect(jobs, threads, Suite{suite, settings, group.instance, group.system});
 }
 

@@ -1,19 +1,24 @@
-// The Python module `hyfal` (issue 42, phase 1): STL robustness on numpy arrays, the suites'
-// models, falsification through the CLI's runner, and the results database as numpy columns. A thin
-// layer: every computation is the C++ library's (core/requirements, suites/registry, app/runner
-// with parallel/trial_engine, results/store); this file holds the module, the exceptions and the
-// conversions the binding files share (python/common.hpp).
-#include <cmath>
+// The Python module `hyfal`: STL robustness on numpy arrays, the suites' models, falsification
+// through the app library's runner, and the results database as numpy columns. A thin layer: every
+// computation is the C++ library's (core/requirements, suites/registry, app/runner with
+// parallel/trial_engine, results/store). This file holds the module and the translation of
+// hyfal's errors (core/error.hpp) into Python classes; the bindings are python/*_bindings.cpp,
+// their shared conversions python/conversions.hpp.
+#include <map>
+#include <vector>
 #include <string>
+#include <string_view>
 
-#include <fmt/format.h>
-#include <fmt/ranges.h>
+#include <pybind11/pybind11.h>
 
 #include "app/runner.hpp"
-#include "core/files.hpp"
+#include "core/error.hpp"
 #include "core/options.hpp"
 #include "core/requirements/formula.hpp"
-#include "python/common.hpp"
+#include "core/trajectory.hpp"
+#include "app/experiment_file.hpp"
+#include "parallel/cluster.hpp"
+#include "python/bindings.hpp"
 #include "results/store.hpp"
 
 #ifndef HYFAL_VERSION
@@ -21,159 +26,55 @@
 #endif
 
 namespace hyfal::python {
-
-DoubleArray to_double_array(py::handle obj, const std::string& what) {
-  if (obj.is_none()) throw py::type_error(fmt::format("{}: expected numbers, got None", what));
-  // Strings and bytes would become arrays of characters' codes or fail oddly: refused here.
-  if (py::isinstance<py::str>(obj) || py::isinstance<py::bytes>(obj))
-    throw py::type_error(fmt::format("{}: expected numbers, got a string", what));
-  py::array raw = py::array::ensure(obj);
-  if (!raw) {
-    PyErr_Clear();
-    throw py::value_error(fmt::format("{}: cannot be read as an array of numbers", what));
-  }
-  // Real numbers only: numpy would drop a complex number's imaginary part, or parse strings.
-  const char kind = raw.dtype().kind();
-  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f' && kind != 'O')
-    throw py::type_error(fmt::format("{}: expected real numbers, got an array of dtype {}", what,
-                                     py::str(raw.dtype()).cast<std::string>()));
-  DoubleArray a = DoubleArray::ensure(raw);
-  if (!a) {
-    PyErr_Clear();
-    throw py::value_error(fmt::format("{}: cannot be read as an array of numbers", what));
-  }
-  return a;
-}
-
-void require_finite(const double* data, std::size_t n, const std::string& what) {
-  for (std::size_t i = 0; i < n; ++i)
-    if (!std::isfinite(data[i]))
-      throw py::value_error(fmt::format("{}: value {} at index {} is not a finite number", what, data[i], i));
-}
-
-DoubleArray to_vector(py::handle obj, const std::string& what, bool allow_scalar) {
-  DoubleArray a = to_double_array(obj, what);
-  if (a.ndim() == 0 && allow_scalar) a = a.reshape({1});
-  if (a.ndim() != 1)
-    throw py::value_error(fmt::format("{}: expected a 1-D array, got {} dimensions", what, a.ndim()));
-  return a;
-}
-
-DoubleArray to_times(py::handle obj, const std::string& what) {
-  DoubleArray t = to_vector(obj, what);
-  const std::size_t n = static_cast<std::size_t>(t.shape(0));
-  if (n == 0) throw py::value_error(fmt::format("{}: at least one sample is needed", what));
-  const double* p = t.data();
-  require_finite(p, n, what);
-  for (std::size_t i = 1; i < n; ++i)
-    if (p[i] < p[i - 1])
-      throw py::value_error(fmt::format("{}: times must not decrease (index {}: {} after {})", what, i, p[i], p[i - 1]));
-  return t;
-}
-
 namespace {
 
-bool is_mapping(py::handle obj) { return py::isinstance<py::dict>(obj) || py::hasattr(obj, "keys"); }
+namespace py = pybind11;
 
-}  // namespace
+// Each C++ error class of core/error.hpp as a Python class: its name (Error::name()), its bases
+// in the module (or Python's own for the two roots and the mixins) and its docstring.
+struct ErrorClass {
+  const char* name;
+  std::vector<const char*> bases;  // names in this table, or "ValueError", "OSError", "Exception"
+  const char* doc;
+};
 
-SignalTable::SignalTable(py::handle signals, py::handle names, bool allow_scalars) {
-  if (is_mapping(signals)) {
-    if (!names.is_none()) throw py::type_error("signals: names=... is for a 2-D array; a mapping names its signals");
-    for (py::handle key : signals.attr("keys")()) {
-      if (!py::isinstance<py::str>(key)) throw py::type_error("signals: the names (keys) must be strings");
-      std::string name = key.cast<std::string>();
-      DoubleArray column = to_vector(signals[key], fmt::format("signal '{}'", name), allow_scalars);
-      const auto n = static_cast<std::size_t>(column.shape(0));
-      if (columns_.empty())
-        samples_ = n;
-      else if (n != samples_)
-        throw py::value_error(fmt::format("signal '{}': {} samples, but signal '{}' has {}", name, n, names_[0], samples_));
-      names_.push_back(std::move(name));
-      columns_.push_back(std::move(column));
-    }
-    return;
-  }
-  if (names.is_none())
-    throw py::type_error("signals: a mapping name -> 1-D array, or a 2-D array (samples x signals) with names=[...]");
-  for (py::handle n : names) {
-    if (!py::isinstance<py::str>(n)) throw py::type_error("names: expected strings");
-    names_.push_back(n.cast<std::string>());
-  }
-  matrix_ = to_double_array(signals, "signals");
-  if (allow_scalars && matrix_.ndim() == 1) matrix_ = matrix_.reshape({py::ssize_t{1}, matrix_.shape(0)});
-  if (matrix_.ndim() != 2)
-    throw py::value_error(fmt::format("signals: expected a 2-D array (samples x signals), got {} dimensions", matrix_.ndim()));
-  if (static_cast<std::size_t>(matrix_.shape(1)) != names_.size())
-    throw py::value_error(fmt::format("signals: shape ({}, {}) has {} columns but {} names are given (rows are samples, "
-                                      "columns signals)",
-                                      matrix_.shape(0), matrix_.shape(1), matrix_.shape(1), names_.size()));
-  samples_ = static_cast<std::size_t>(matrix_.shape(0));
-  is_matrix_ = true;
+const std::vector<ErrorClass>& error_classes() {
+  static const std::vector<ErrorClass> classes = {
+      {"InputError", {"ValueError"}, "A bad input: nothing was run or written (the CLI's exit 2)."},
+      {"EnvironmentError", {"OSError"},
+       "The machine failed (a disk, a database, a peer); what was stored stands and the same call resumes "
+       "(the CLI's exit 3)."},
+      {"OptionError", {"InputError"}, "A setting that does not resolve: an unknown key, a wrong type, out of range."},
+      {"RequirementError", {"InputError"},
+       "A formula that cannot be parsed; its attribute `column` is the 1-based column in the formula's text."},
+      {"WitnessError", {"InputError"}, "A witness that cannot be read: a field missing, mistyped or out of range."},
+      {"ExperimentFileError", {"InputError"}, "A table or experiment file that cannot be used."},
+      {"UsageError", {"InputError"}, "A request the runner refuses (an unknown suite or method, a bad name...)."},
+      {"MethodNotApplicable", {"UsageError"}, "A method that cannot drive the system at all."},
+      {"StoreError", {"Exception"},
+       "Any failure of a results database (StoreInputError or StoreEnvironmentError); `sqlite_code` is "
+       "SQLite's result code behind it, 0 when none."},
+      {"StoreInputError", {"InputError", "StoreError"}, "A path that is not a usable hyfal results database."},
+      {"StoreEnvironmentError", {"EnvironmentError", "StoreError"},
+       "The machine failed a results database that was fine (disk full, I/O error, locked too long)."},
+      {"ClusterError", {"Exception"}, "A failure of a distributed run (ClusterSetupError or ClusterFailure)."},
+      {"ClusterSetupError", {"InputError", "ClusterError"}, "A distributed run's set-up the user can fix."},
+      {"ClusterFailure", {"EnvironmentError", "ClusterError"}, "A rank or peer of a distributed run failed."},
+  };
+  return classes;
 }
 
-void SignalTable::copy_signal(std::size_t k, double* out) const {
-  if (!is_matrix_) {
-    const double* p = columns_[k].data();
-    for (std::size_t i = 0; i < samples_; ++i) {
-      if (!std::isfinite(p[i]))
-        throw py::value_error(fmt::format("signal '{}': value {} at index {} is not a finite number", names_[k], p[i], i));
-      out[i] = p[i];
-    }
-    return;
-  }
-  const std::size_t cols = names_.size();
-  const double* p = matrix_.data();
-  for (std::size_t i = 0; i < samples_; ++i) {
-    const double v = p[i * cols + k];
-    if (!std::isfinite(v))
-      throw py::value_error(fmt::format("signal '{}': value {} at index {} is not a finite number", names_[k], v, i));
-    out[i] = v;
-  }
+// The Python classes, by name (made once, at import; they live as long as the module).
+std::map<std::string, py::object, std::less<>>& python_classes() {
+  static auto* classes = new std::map<std::string, py::object, std::less<>>();
+  return *classes;
 }
 
-std::string option_names(const std::vector<OptionSpec>& specs) {
-  std::vector<std::string> keys;
-  for (const auto& s : specs) keys.push_back(s.key);
-  return fmt::format("{}", fmt::join(keys, ", "));
+py::object builtin_class(std::string_view name) {
+  if (name == "ValueError") return py::reinterpret_borrow<py::object>(PyExc_ValueError);
+  if (name == "OSError") return py::reinterpret_borrow<py::object>(PyExc_OSError);
+  return py::reinterpret_borrow<py::object>(PyExc_Exception);
 }
-
-std::string setting_text(py::handle value) {
-  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
-  if (py::isinstance<py::float_>(value)) return py::repr(value).cast<std::string>();
-  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) || py::isinstance<py::dict>(value))
-    return py::module_::import("json").attr("dumps")(value).cast<std::string>();
-  // numpy scalars and anything else numbers-like: through Python's own float/int.
-  if (py::hasattr(value, "dtype")) return setting_text(value.attr("item")());
-  throw py::type_error(fmt::format("a setting's value must be a bool, int, float, str or list, not {}",
-                                   py::str(value.get_type().attr("__name__")).cast<std::string>()));
-}
-
-void set_read_only(py::array& a) { a.attr("setflags")(py::arg("write") = false); }
-
-py::array_t<double> to_numpy(const std::vector<double>& values) {
-  py::array_t<double> a(static_cast<py::ssize_t>(values.size()));
-  std::copy(values.begin(), values.end(), a.mutable_data());
-  return a;
-}
-
-py::array_t<std::int64_t> to_numpy(const std::vector<std::int64_t>& values) {
-  py::array_t<std::int64_t> a(static_cast<py::ssize_t>(values.size()));
-  std::copy(values.begin(), values.end(), a.mutable_data());
-  return a;
-}
-
-py::array object_array(const py::list& items) {
-  py::array a = py::module_::import("numpy").attr("empty")(py::len(items), py::arg("dtype") = "object");
-  for (std::size_t i = 0; i < py::len(items); ++i) a[py::int_(i)] = items[i];
-  return a;
-}
-
-py::object json_to_python(const Json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
-
-namespace {
 
 // "--set key=value: ..." (the CLI's wording) without the flag: from Python the key was a keyword.
 std::string without_set_flag(std::string message) {
@@ -181,7 +82,69 @@ std::string without_set_flag(std::string message) {
   return message;
 }
 
+// Raises e as its Python class: the class of its name, else the class of its kind (a subclass
+// this module does not list still arrives as InputError or EnvironmentError).
+void raise_as_python(const std::exception& e, const Error& h) {
+  auto& classes = python_classes();
+  auto it = classes.find(h.name());
+  if (it == classes.end()) it = classes.find(h.error_kind() == ErrorKind::input ? "InputError" : "EnvironmentError");
+  std::string message = e.what();
+  if (dynamic_cast<const OptionError*>(&e) || dynamic_cast<const UsageError*>(&e))
+    message = without_set_flag(std::move(message));
+  py::object error = it->second(message);
+  if (const auto* r = dynamic_cast<const stl::RequirementError*>(&e)) error.attr("column") = r->column();
+  if (const auto* s = dynamic_cast<const StoreError*>(&e)) error.attr("sqlite_code") = s->sqlite_code();
+  PyErr_SetObject(it->second.ptr(), error.ptr());
+}
+
+// Throws the C++ error of that name (every class of error_classes() that is no mixin): the
+// test hook hyfal._raise_error, so that tests reach the translation of errors no Python call
+// can provoke on a healthy machine (a failing disk, a lost peer).
+[[noreturn]] void raise_cpp_error(const std::string& name, const std::string& message) {
+  if (name == "InputError") throw InputError(message);
+  if (name == "EnvironmentError") throw EnvironmentError(message);
+  if (name == "OptionError") throw OptionError(message);
+  if (name == "RequirementError") throw stl::RequirementError(7, message);
+  if (name == "WitnessError") throw WitnessError(message);
+  if (name == "ExperimentFileError") throw ExperimentFileError(message);
+  if (name == "UsageError") throw UsageError(message);
+  if (name == "MethodNotApplicable") throw MethodNotApplicable(message);
+  if (name == "StoreInputError") throw_store_error(StoreErrorKind::bad_input, message, 26);
+  if (name == "StoreEnvironmentError") throw_store_error(StoreErrorKind::environment, message, 13);
+  if (name == "ClusterSetupError") throw ClusterSetupError(message);
+  if (name == "ClusterFailure") throw ClusterFailure(message);
+  throw std::logic_error("no hyfal error is called " + name);
+}
+
 }  // namespace
+
+void bind_errors(py::module_& m) {
+  auto& classes = python_classes();
+  for (const ErrorClass& c : error_classes()) {
+    py::tuple bases(c.bases.size());
+    for (std::size_t i = 0; i < c.bases.size(); ++i) {
+      const auto it = classes.find(c.bases[i]);
+      bases[i] = it != classes.end() ? it->second : builtin_class(c.bases[i]);
+    }
+    const std::string qualified = std::string("hyfal.") + c.name;
+    py::object cls = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+        qualified.c_str(), c.doc, bases.ptr(), nullptr));
+    if (!cls) throw py::error_already_set();
+    m.attr(c.name) = cls;
+    classes.emplace(c.name, std::move(cls));
+  }
+  m.def("_raise_error", &raise_cpp_error, py::arg("name"), py::arg("message"),
+        "Test hook: raises the C++ error of that name through the module's translation.");
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const std::exception& e) {
+      const Error* h = hyfal_error(e);
+      if (!h) throw;  // not hyfal's: pybind11's own translation (std::invalid_argument: ValueError...)
+      raise_as_python(e, *h);
+    }
+  });
+}
 
 }  // namespace hyfal::python
 
@@ -192,28 +155,7 @@ PYBIND11_MODULE(hyfal, m) {
       "hyfal: falsification of hybrid systems (STL robustness on numpy arrays, the suites' models, the falsifiers "
       "of `hyfal run`, and results databases as numpy columns). See the README's Python section.";
   m.attr("__version__") = HYFAL_VERSION;
-
-  // A refused formula: a ValueError whose message names the column (1-based, in the formula's text).
-  static py::exception<stl::RequirementError> requirement_error(m, "RequirementError", PyExc_ValueError);
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const stl::RequirementError& e) {
-      const py::object type = requirement_error;  // the class (py::exception's own call only sets an error)
-      py::object error = type(e.what());
-      error.attr("column") = e.column();
-      PyErr_SetObject(requirement_error.ptr(), error.ptr());
-    } catch (const OptionError& e) {
-      PyErr_SetString(PyExc_ValueError, python::without_set_flag(e.what()).c_str());
-    } catch (const cli::UsageError& e) {
-      PyErr_SetString(PyExc_ValueError, python::without_set_flag(e.what()).c_str());
-    } catch (const StoreError& e) {
-      PyErr_SetString(e.kind() == StoreErrorKind::bad_input ? PyExc_ValueError : PyExc_OSError, e.what());
-    } catch (const EnvironmentError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
-    }
-  });
-
+  python::bind_errors(m);
   python::bind_stl(m);
   python::bind_suites(m);
   python::bind_black_box(m);

@@ -13,7 +13,8 @@
 #include "core/requirements/formula.hpp"
 #include "core/requirements/prefix_monitor.hpp"
 #include "core/requirements/robustness.hpp"
-#include "python/common.hpp"
+#include "python/bindings.hpp"
+#include "python/conversions.hpp"
 
 namespace hyfal::python {
 

@@ -7,7 +7,7 @@
 #include "core/paper_table.hpp"
 #include "core/requirements/simulate.hpp"
 #include "core/suite.hpp"
-#include "python/common.hpp"
+#include "python/conversions.hpp"
 
 namespace hyfal::python {
 

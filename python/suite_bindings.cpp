@@ -15,7 +15,8 @@
 #include "core/options.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/simulate.hpp"
-#include "python/common.hpp"
+#include "python/bindings.hpp"
+#include "python/conversions.hpp"
 #include "python/suite.hpp"
 #include "suites/registry.hpp"
 
@@ -209,11 +210,7 @@ Suite make_suite(const std::string& name, const Settings& settings) {
                                       option_names(s.entry->parameters)));
   s.settings = settings;
   s.instance = canonical_instance(s.entry->parameters, resolve_options(s.entry->parameters, settings));
-  try {
-    s.system = s.entry->make(s.instance);
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+  s.system = s.entry->make(s.instance);  // a refusal: ValueError (an InputError's own class)
   return s;
 }
 

@@ -156,7 +156,7 @@ StoreErrorKind kind_of(int rc) {
 
 [[noreturn]] void throw_sqlite_error(sqlite3* connection, std::string_view what) {
   const int rc = sqlite3_extended_errcode(connection);
-  throw StoreError(kind_of(rc), fmt::format("{}: {}", what, sqlite3_errmsg(connection)), rc);
+  throw_store_error(kind_of(rc), fmt::format("{}: {}", what, sqlite3_errmsg(connection)), rc);
 }
 
 void execute(sqlite3* connection, const char* sql, std::string_view what) {
@@ -247,14 +247,14 @@ void create_parent_directories(const std::string& path) {
   if (error) {
     const int code = error.value();
     const bool machine = code == ENOSPC || code == EIO || code == EDQUOT || code == ENOMEM;
-    throw StoreError(machine ? StoreErrorKind::environment : StoreErrorKind::bad_input,
+    throw_store_error(machine ? StoreErrorKind::environment : StoreErrorKind::bad_input,
                      fmt::format("cannot create directory '{}' for results database '{}': {}",
                                  parent.string(), path, error.message()));
   }
 }
 
 [[noreturn]] void throw_not_hyfal(const std::string& path, std::string_view why) {
-  throw StoreError(StoreErrorKind::bad_input,
+  throw_store_error(StoreErrorKind::bad_input,
                    fmt::format("'{}' is not a hyfal results database: {}", path, why));
 }
 
@@ -281,7 +281,7 @@ RawConnection open_connection(const std::string& path, const std::string& name, 
   const int rc = sqlite3_open_v2(name.c_str(), &raw, flags, nullptr);
   RawConnection connection(raw, &sqlite3_close_v2);  // a handle is allocated even on failure
   if (rc != SQLITE_OK)
-    throw StoreError(kind_of(rc), fmt::format("cannot open results database '{}': {}", path,
+    throw_store_error(kind_of(rc), fmt::format("cannot open results database '{}': {}", path,
                                               raw == nullptr ? sqlite3_errstr(rc) : sqlite3_errmsg(raw)), rc);
   sqlite3_extended_result_codes(raw, 1);
   if (sqlite3_busy_timeout(raw, kBusyTimeoutMs) != SQLITE_OK)
@@ -334,7 +334,7 @@ bool check_hyfal_schema(sqlite3* connection, const std::string& path) {
   }
   if (versions.empty()) throw_not_hyfal(path, "its table 'meta' holds no schema_version");
   if (versions.front() != std::to_string(kSchemaVersion) && versions.front() != "1")
-    throw StoreError(StoreErrorKind::bad_input,
+    throw_store_error(StoreErrorKind::bad_input,
                      fmt::format("results database '{}': schema version {} is not supported by this build "
                                  "(reads 1 and {})",
                                  path, versions.front(), kSchemaVersion));
@@ -468,7 +468,7 @@ bool may_write_file_and_folder(const std::string& path) {
 }
 
 [[noreturn]] void throw_unfinished_transaction(const std::string& path) {
-  throw StoreError(StoreErrorKind::environment,
+  throw_store_error(StoreErrorKind::environment,
                    fmt::format("cannot open results database '{}': a process killed while writing it left an "
                                "unfinished transaction ('{}-journal'), which only a user who may write the file "
                                "and its folder can roll back (any hyfal run or table does)",
@@ -536,7 +536,7 @@ bool create_database_file(const std::string& path) {
       close_fd();
       const bool machine = n < 0 && (error == ENOSPC || error == EIO || error == EDQUOT);
       if (machine)
-        throw StoreError(StoreErrorKind::environment,
+        throw_store_error(StoreErrorKind::environment,
                          fmt::format("cannot create results database '{}': {}", path, std::strerror(error)));
       return false;
     }
@@ -545,7 +545,7 @@ bool create_database_file(const std::string& path) {
   if (::fsync(fd) != 0) {
     const int error = errno;
     close_fd();
-    throw StoreError(StoreErrorKind::environment,
+    throw_store_error(StoreErrorKind::environment,
                      fmt::format("cannot create results database '{}': {}", path, std::strerror(error)));
   }
   const std::string self = fmt::format("/proc/self/fd/{}", fd);
@@ -567,21 +567,21 @@ bool create_database_file(const std::string& path) {
 // A regular, non-empty file, checked before SQLite sees it; false for a missing or empty file.
 // Throws StoreError (bad_input) for a directory or something else that is no file.
 bool existing_database_file(const std::string& path) {
-  if (path.empty()) throw StoreError(StoreErrorKind::bad_input, "the results database path is empty");
+  if (path.empty()) throw_store_error(StoreErrorKind::bad_input, "the results database path is empty");
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
   if (!std::filesystem::exists(status)) return false;
   if (std::filesystem::is_directory(status))
-    throw StoreError(StoreErrorKind::bad_input,
+    throw_store_error(StoreErrorKind::bad_input,
                      fmt::format("'{}' is a directory, not a results database", path));
   if (!std::filesystem::is_regular_file(status))
-    throw StoreError(StoreErrorKind::bad_input, fmt::format("'{}' is not a regular file", path));
+    throw_store_error(StoreErrorKind::bad_input, fmt::format("'{}' is not a regular file", path));
   // Before the header is read and before any read-only connection, which fails on a hot journal
   // (read as immutable, it would read the half-written file).
   roll_back_hot_journal(path);
   const auto size = std::filesystem::file_size(path, error);
   if (error)
-    throw StoreError(StoreErrorKind::environment,
+    throw_store_error(StoreErrorKind::environment,
                      fmt::format("cannot open results database '{}': {}", path, error.message()));
   if (size == 0) return false;
   if (!has_sqlite_header(path)) throw_not_hyfal(path, "it is not a SQLite database");
@@ -656,7 +656,7 @@ ReadOnlyConnection::ReadOnlyConnection(const std::string& path) : path_(path) {
     throw_unfinished_transaction(path);  // a writer killed just now: its journal came after the roll-back
   } else if ((rc & 0xff) == SQLITE_READONLY) {
     // Never "attempt to write a readonly database" for a reader: say what SQLite wanted to write.
-    throw StoreError(StoreErrorKind::environment,
+    throw_store_error(StoreErrorKind::environment,
                      fmt::format("cannot read results database '{}': SQLite must write beside it to read it "
                                  "(its -wal/-shm files) and may not ({})",
                                  path, sqlite3_errmsg(connection_.get())),
@@ -725,7 +725,7 @@ void configure(sqlite3* connection, const std::string& path) {
     const int rc = sqlite3_extended_errcode(connection);
     const std::string message = sqlite3_errmsg(connection);
     sqlite3_exec(connection, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw StoreError(kind_of(rc), fmt::format("cannot create the schema of results database '{}': {}", path, message), rc);
+    throw_store_error(kind_of(rc), fmt::format("cannot create the schema of results database '{}': {}", path, message), rc);
   }
   run("COMMIT");
 }
@@ -891,7 +891,7 @@ TrialStore TrialStore::open_once(const std::string& path) {
   // SQLite opens a file it may not write read-only, without a word; its first read would then
   // create -wal and -shm files that no read-only connection can remove. Refused before that read.
   if (sqlite3_db_readonly(raw.get(), "main") == 1)
-    throw StoreError(StoreErrorKind::environment,
+    throw_store_error(StoreErrorKind::environment,
                      fmt::format("cannot open results database '{}' for writing: {}", path,
                                  sqlite3_errstr(SQLITE_READONLY)),
                      SQLITE_READONLY);
@@ -899,7 +899,7 @@ TrialStore TrialStore::open_once(const std::string& path) {
   configure(connection.get(), path);
   // Another process may have filled an empty file in between: check what we now write to.
   if (!check_hyfal_schema(connection.get(), path))
-    throw StoreError(StoreErrorKind::environment,
+    throw_store_error(StoreErrorKind::environment,
                      fmt::format("results database '{}' lost its schema while opening", path));
   if (schema_version_of(connection.get(), path) == 1) migrate_from_schema_1(connection.get(), path);
   return TrialStore(path, std::move(connection), true);
@@ -908,7 +908,7 @@ TrialStore TrialStore::open_once(const std::string& path) {
 TrialStore TrialStore::open_read_only(const std::string& path) {
   if (!existing_database_file(path)) {
     if (!path_exists(path))
-      throw StoreError(StoreErrorKind::bad_input, fmt::format("no results database at '{}'", path));
+      throw_store_error(StoreErrorKind::bad_input, fmt::format("no results database at '{}'", path));
     throw_not_hyfal(path, "it is empty");
   }
   auto [raw, cleanup_path] = ReadOnlyConnection(path).release();
@@ -969,7 +969,7 @@ std::vector<TrialRecord> TrialStore::load_with_series() {
       StatementUse use(ids.get());
       for (std::size_t i = 0; use.step(); ++i) {
         if (i >= records.size())
-          throw StoreError(StoreErrorKind::environment, fmt::format("results database '{}' changed while read", path_));
+          throw_store_error(StoreErrorKind::environment, fmt::format("results database '{}' changed while read", path_));
         position_of_id[use.integer(0)] = i;
       }
     }
@@ -1011,7 +1011,7 @@ std::int64_t TrialStore::insert_row(const TrialRecord& record) {
   use.bind(22, record.metrics);
   const int rc = sqlite3_step(insert_trial_.get());
   if (rc == SQLITE_CONSTRAINT_UNIQUE)
-    throw StoreError(StoreErrorKind::bad_input, fmt::format("results database '{}' already holds the trial ({})", path_,
+    throw_store_error(StoreErrorKind::bad_input, fmt::format("results database '{}' already holds the trial ({})", path_,
                                  describe(record.key)));
   if (rc != SQLITE_DONE)
     throw_sqlite_error(connection_.get(),
@@ -1071,7 +1071,7 @@ std::vector<TrialRecord> TrialStore::load(std::optional<std::string> experiment)
     const std::string status = use.text(7);
     const auto parsed_status = parse_trial_status(status);
     if (!parsed_status)
-      throw StoreError(StoreErrorKind::bad_input, fmt::format("results database '{}' holds unknown trial status '{}'", path_,
+      throw_store_error(StoreErrorKind::bad_input, fmt::format("results database '{}' holds unknown trial status '{}'", path_,
                                    status));
     record.status = *parsed_status;
     record.validated = use.integer(8) != 0;

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/trial_record.hpp"
 
 struct sqlite3;
@@ -33,19 +34,47 @@ enum class StoreErrorKind {
   environment,
 };
 
-// Any failure of the results database; what() is one line naming the database and the cause.
-class StoreError : public std::runtime_error {
+// Any failure of the results database: the mixin of StoreInputError and StoreEnvironmentError
+// (core/error.hpp), so that `catch (const StoreError&)` sees both. what() is one line naming the
+// database and the cause. Thrown by throw_store_error, which picks the class by the kind.
+class StoreError {
  public:
-  StoreError(StoreErrorKind kind, const std::string& what, int sqlite_code = 0)
-      : std::runtime_error(what), kind_(kind), sqlite_code_(sqlite_code) {}
-  StoreErrorKind kind() const noexcept { return kind_; }
+  virtual ~StoreError() = default;
+  virtual const char* what() const noexcept = 0;
+  virtual StoreErrorKind kind() const noexcept = 0;
   // SQLite's (extended) result code behind the failure, 0 when it did not come from SQLite.
   int sqlite_code() const noexcept { return sqlite_code_; }
 
+ protected:
+  explicit StoreError(int sqlite_code) : sqlite_code_(sqlite_code) {}
+
  private:
-  StoreErrorKind kind_;
   int sqlite_code_;
 };
+
+// StoreErrorKind::bad_input: the user named something that is not a usable hyfal database.
+class StoreInputError : public InputError, public StoreError {
+ public:
+  StoreInputError(const std::string& what, int sqlite_code = 0) : InputError(what), StoreError(sqlite_code) {}
+  const char* what() const noexcept override { return InputError::what(); }
+  StoreErrorKind kind() const noexcept override { return StoreErrorKind::bad_input; }
+  const char* name() const noexcept override { return "StoreInputError"; }
+};
+
+// StoreErrorKind::environment: the machine failed a database that was fine.
+class StoreEnvironmentError : public EnvironmentError, public StoreError {
+ public:
+  StoreEnvironmentError(const std::string& what, int sqlite_code = 0) : EnvironmentError(what), StoreError(sqlite_code) {}
+  const char* what() const noexcept override { return EnvironmentError::what(); }
+  StoreErrorKind kind() const noexcept override { return StoreErrorKind::environment; }
+  const char* name() const noexcept override { return "StoreEnvironmentError"; }
+};
+
+// Throws the StoreError of that kind.
+[[noreturn]] inline void throw_store_error(StoreErrorKind kind, const std::string& what, int sqlite_code = 0) {
+  if (kind == StoreErrorKind::bad_input) throw StoreInputError(what, sqlite_code);
+  throw StoreEnvironmentError(what, sqlite_code);
+}
 
 // Who runs a claimed trial: one process, told apart from a later process that reuses its pid by
 // the start time the kernel records for it.

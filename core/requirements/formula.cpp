@@ -15,7 +15,10 @@
 namespace hyfal::stl {
 
 RequirementError::RequirementError(int column, const std::string& message)
-    : std::runtime_error(fmt::format("column {}: {}", column, message)), column_(column) {}
+    : InputError(fmt::format("column {}: {}", column, message)), column_(column) {}
+
+RequirementError::RequirementError(std::string_view context, const RequirementError& error)
+    : InputError(fmt::format("{}: {}", context, error.what())), column_(error.column()) {}
 
 namespace {
 

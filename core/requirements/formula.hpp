@@ -23,14 +23,19 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.hpp"
+
 namespace hyfal::stl {
 
 // A refused requirement: `column` is 1-based, in the text given to parse_requirement; what() reads
 // "column 17: expected ']'".
-class RequirementError : public std::runtime_error {
+class RequirementError : public InputError {
  public:
   RequirementError(int column, const std::string& message);
+  // The same refusal led by where the formula came from: "requirement: column 17: expected ']'".
+  RequirementError(std::string_view context, const RequirementError& error);
   int column() const { return column_; }
+  const char* name() const noexcept override { return "RequirementError"; }
 
  private:
   int column_;

@@ -108,7 +108,7 @@ Requirement resolve_requirement(const SystemInfo& info, std::string_view value) 
   } catch (const RequirementError& e) {
     if (!r.id.empty())  // a suite's own declaration: a programming error, named as such
       throw std::logic_error(fmt::format("suite {} declares requirement {} wrongly: {}", info.suite, r.id, e.what()));
-    throw std::invalid_argument(fmt::format("requirement: {}", e.what()));
+    throw RequirementError("requirement", e);
   }
   keep_read_signals(r.formula, r.sources);
   r.outputs = static_cast<int>(info.outputs.size());

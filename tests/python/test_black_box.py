@@ -99,7 +99,8 @@ def test_tree_methods_are_refused():
     (lambda t, u: 1 / 0, "ZeroDivisionError"),
     (lambda t, u: (t, {}), "no signal 'x'"),
     (lambda t, u: (t, {"x": np.zeros(len(t) + 1)}), "values for"),
-    (lambda t, u: (t, {"x": np.full(len(t), np.nan)}), "holds nan"),
+    (lambda t, u: (t, {"x": np.full(len(t), np.nan)}), "signal 'x': value nan at index 0 is not a finite number"),
+    (lambda t, u: (np.stack([t, t]), {"x": np.zeros(len(t))}), "the model's time: expected a 1-D array"),
     (lambda t, u: (t[::-1], {"x": np.zeros(len(t))}), "decreases"),
     (lambda t, u: np.zeros(3), "must return"),
 ])

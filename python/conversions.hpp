@@ -1,5 +1,6 @@
-// Shared by the binding files of the Python module `hyfal` (python/module.cpp): array
-// conversions with Python-side errors, and running C++ work with the GIL released.
+// Conversions the binding files of the Python module `hyfal` share: arrays and settings with
+// Python-side errors, results as numpy arrays, and running C++ work with the GIL released. A leaf
+// of python/: it includes nothing else from python/ (python/conversions.cpp).
 #pragma once
 #include <chrono>
 #include <cstddef>
@@ -102,11 +103,5 @@ R run_released(const std::function<R(std::stop_token)>& work) {
   if (interrupted) throw py::error_already_set();
   return result.get();
 }
-
-// The bindings of each file.
-void bind_stl(py::module_& m);
-void bind_suites(py::module_& m);
-void bind_falsify(py::module_& m);
-void bind_black_box(py::module_& m);
 
 }  // namespace hyfal::python
