@@ -1,4 +1,4 @@
-// One ARCH-COMP run's unit of work on the automatic transmission (suites/at.cpp): a 33 s
+// One ARCH-COMP run's unit of work on the automatic transmission (suites/at/at.cpp): a 33 s
 // simulation as 33 pieces of 1 s, each under one input of Ū (a fixed pseudo-random sequence of
 // the 3 × 3 grid, so the car shifts up and down), continued through every shift. Issue 29's
 // target: <= 0.5 ms per simulation with the monitor on one core. Items are simulations.

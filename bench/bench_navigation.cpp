@@ -12,7 +12,7 @@
 #include "core/decomposition.hpp"
 #include "core/options.hpp"
 #include "core/planners/hydice/hydice.hpp"
-#include "suites/navigation.hpp"
+#include "suites/navigation/navigation.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal::bench {

@@ -134,7 +134,7 @@ enum class IntegratorKind { rk4, dopri5, rosenbrock };
 //    state; exact where the solution is a polynomial of degree <= 3), and a regula falsi
 //    (Anderson-Björck; Newton's method for guards_affine, core/root_bracket.hpp) brackets the
 //    event: for a model that switches at almost every step, where the re-steps and toms748's own
-//    arithmetic were two thirds of a simulation (suites/cc.cpp's `interpolation`).
+//    arithmetic were two thirds of a simulation (suites/cc/cc.cpp's `interpolation`).
 enum class StepInterpolation { restep, hermite };
 
 struct IntegratorSettings {

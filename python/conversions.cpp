@@ -42,8 +42,7 @@ void require_finite(const double* data, std::size_t n, const std::string& what) 
 DoubleArray to_vector(py::handle obj, const std::string& what, bool allow_scalar) {
   DoubleArray a = to_double_array(obj, what);
   if (a.ndim() == 0 && allow_scalar) a = a.reshape({1});
-  if (a.ndim() != 1)
-    throw py::value_error(fmt::format("{}: expected a 1-D array, got {} dimensions", what, a.ndim()));
+  if (a.ndim() != 1) throw py::value_error(fmt::format("{}: expected a 1-D array, got {} dimensions", what, a.ndim()));
   return a;
 }
 
@@ -55,7 +54,8 @@ DoubleArray to_times(py::handle obj, const std::string& what) {
   require_finite(p, n, what);
   for (std::size_t i = 1; i < n; ++i)
     if (p[i] < p[i - 1])
-      throw py::value_error(fmt::format("{}: times must not decrease (index {}: {} after {})", what, i, p[i], p[i - 1]));
+      throw py::value_error(
+          fmt::format("{}: times must not decrease (index {}: {} after {})", what, i, p[i], p[i - 1]));
   return t;
 }
 
@@ -76,7 +76,8 @@ SignalTable::SignalTable(py::handle signals, py::handle names, bool allow_scalar
       if (columns_.empty())
         samples_ = n;
       else if (n != samples_)
-        throw py::value_error(fmt::format("signal '{}': {} samples, but signal '{}' has {}", name, n, names_[0], samples_));
+        throw py::value_error(
+            fmt::format("signal '{}': {} samples, but signal '{}' has {}", name, n, names_[0], samples_));
       names_.push_back(std::move(name));
       columns_.push_back(std::move(column));
     }
@@ -91,11 +92,13 @@ SignalTable::SignalTable(py::handle signals, py::handle names, bool allow_scalar
   matrix_ = to_double_array(signals, "signals");
   if (allow_scalars && matrix_.ndim() == 1) matrix_ = matrix_.reshape({py::ssize_t{1}, matrix_.shape(0)});
   if (matrix_.ndim() != 2)
-    throw py::value_error(fmt::format("signals: expected a 2-D array (samples x signals), got {} dimensions", matrix_.ndim()));
+    throw py::value_error(
+        fmt::format("signals: expected a 2-D array (samples x signals), got {} dimensions", matrix_.ndim()));
   if (static_cast<std::size_t>(matrix_.shape(1)) != names_.size())
-    throw py::value_error(fmt::format("signals: shape ({}, {}) has {} columns but {} names are given (rows are samples, "
-                                      "columns signals)",
-                                      matrix_.shape(0), matrix_.shape(1), matrix_.shape(1), names_.size()));
+    throw py::value_error(
+        fmt::format("signals: shape ({}, {}) has {} columns but {} names are given (rows are samples, "
+                    "columns signals)",
+                    matrix_.shape(0), matrix_.shape(1), matrix_.shape(1), names_.size()));
   samples_ = static_cast<std::size_t>(matrix_.shape(0));
   is_matrix_ = true;
 }
@@ -105,7 +108,8 @@ void SignalTable::copy_signal(std::size_t k, double* out) const {
     const double* p = columns_[k].data();
     for (std::size_t i = 0; i < samples_; ++i) {
       if (!std::isfinite(p[i]))
-        throw py::value_error(fmt::format("signal '{}': value {} at index {} is not a finite number", names_[k], p[i], i));
+        throw py::value_error(
+            fmt::format("signal '{}': value {} at index {} is not a finite number", names_[k], p[i], i));
       out[i] = p[i];
     }
     return;

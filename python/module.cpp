@@ -5,18 +5,18 @@
 // hyfal's errors (core/error.hpp) into Python classes; the bindings are python/*_bindings.cpp,
 // their shared conversions python/conversions.hpp.
 #include <map>
-#include <vector>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <pybind11/pybind11.h>
 
+#include "app/experiment_file.hpp"
 #include "app/runner.hpp"
 #include "core/error.hpp"
 #include "core/options.hpp"
 #include "core/requirements/formula.hpp"
 #include "core/trajectory.hpp"
-#include "app/experiment_file.hpp"
 #include "parallel/cluster.hpp"
 #include "python/bindings.hpp"
 #include "results/store.hpp"
@@ -41,21 +41,25 @@ struct ErrorClass {
 const std::vector<ErrorClass>& error_classes() {
   static const std::vector<ErrorClass> classes = {
       {"InputError", {"ValueError"}, "A bad input: nothing was run or written (the CLI's exit 2)."},
-      {"EnvironmentError", {"OSError"},
+      {"EnvironmentError",
+       {"OSError"},
        "The machine failed (a disk, a database, a peer); what was stored stands and the same call resumes "
        "(the CLI's exit 3)."},
       {"OptionError", {"InputError"}, "A setting that does not resolve: an unknown key, a wrong type, out of range."},
-      {"RequirementError", {"InputError"},
+      {"RequirementError",
+       {"InputError"},
        "A formula that cannot be parsed; its attribute `column` is the 1-based column in the formula's text."},
       {"WitnessError", {"InputError"}, "A witness that cannot be read: a field missing, mistyped or out of range."},
       {"ExperimentFileError", {"InputError"}, "A table or experiment file that cannot be used."},
       {"UsageError", {"InputError"}, "A request the runner refuses (an unknown suite or method, a bad name...)."},
       {"MethodNotApplicable", {"UsageError"}, "A method that cannot drive the system at all."},
-      {"StoreError", {"Exception"},
+      {"StoreError",
+       {"Exception"},
        "Any failure of a results database (StoreInputError or StoreEnvironmentError); `sqlite_code` is "
        "SQLite's result code behind it, 0 when none."},
       {"StoreInputError", {"InputError", "StoreError"}, "A path that is not a usable hyfal results database."},
-      {"StoreEnvironmentError", {"EnvironmentError", "StoreError"},
+      {"StoreEnvironmentError",
+       {"EnvironmentError", "StoreError"},
        "The machine failed a results database that was fine (disk full, I/O error, locked too long)."},
       {"ClusterError", {"Exception"}, "A failure of a distributed run (ClusterSetupError or ClusterFailure)."},
       {"ClusterSetupError", {"InputError", "ClusterError"}, "A distributed run's set-up the user can fix."},
@@ -127,8 +131,8 @@ void bind_errors(py::module_& m) {
       bases[i] = it != classes.end() ? it->second : builtin_class(c.bases[i]);
     }
     const std::string qualified = std::string("hyfal.") + c.name;
-    py::object cls = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
-        qualified.c_str(), c.doc, bases.ptr(), nullptr));
+    py::object cls =
+        py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(qualified.c_str(), c.doc, bases.ptr(), nullptr));
     if (!cls) throw py::error_already_set();
     m.attr(c.name) = cls;
     classes.emplace(c.name, std::move(cls));

@@ -47,11 +47,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_tables  # noqa: E402  (the shared figure set-up, save_figure and error handling)
 from plot_tables import InputError, OneLineParser  # noqa: E402
 
-# seed 003 Sect. 6.2: the blimp's goal (150, -150, -10), reached within 20 m (suites/blimp.cpp);
+# seed 003 Sect. 6.2: the blimp's goal (150, -150, -10), reached within 20 m (suites/blimp/blimp.cpp);
 # the export of a blimp instance does not carry it (it is a constant of the suite, not a setting).
 BLIMP_GOAL = (150.0, -150.0)
 BLIMP_GOAL_RADIUS = 20.0
-# suites/aircraft.cpp: per aircraft 3 mode bits (ModePacking{3}); 4 = G, arrived (out of the spec).
+# suites/aircraft/aircraft.cpp: per aircraft 3 mode bits (ModePacking{3}); 4 = G, arrived (out of the spec).
 AIRCRAFT_MODE_BITS = 3
 AIRCRAFT_ARRIVED = 4
 # Terrain colours by vehicle code of the navigation export ("C" SCar, "U" SUni, "D" SDDrive).

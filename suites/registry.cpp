@@ -4,8 +4,13 @@
 #include <utility>
 
 #include "core/requirements/requirement.hpp"
+#include "suite_list.hpp"  // generated: HYFAL_SUITES(X), one X(NAME) per hyfal_suite line
 
 namespace hyfal {
+
+#define HYFAL_DECLARE_SUITE(name) SuiteEntry name##_suite();
+HYFAL_SUITES(HYFAL_DECLARE_SUITE)
+#undef HYFAL_DECLARE_SUITE
 
 namespace {
 
@@ -34,22 +39,9 @@ SuiteEntry with_requirement_parameter(SuiteEntry s) {
 
 const std::vector<SuiteEntry>& all_suites() {
   static const std::vector<SuiteEntry> suites = [] {
-    std::vector<SuiteEntry> all = {
-        thermostat_suite(),
-        example31_suite(),
-        linear_suite(),
-        hovercraft_suite(),
-        guard_intruder_suite(),
-        navigation_suite(),
-        blimp_suite(),
-        aircraft_suite(),
-        at_suite(),
-        cc_suite(),
-        f16_suite(),
-        afc_suite(),
-        nn_suite(),
-        sc_suite(),
-    };
+#define HYFAL_SUITE_ENTRY(name) name##_suite(),
+    std::vector<SuiteEntry> all = {HYFAL_SUITES(HYFAL_SUITE_ENTRY)};
+#undef HYFAL_SUITE_ENTRY
     for (auto& s : all) s = with_requirement_parameter(std::move(s));
     return all;
   }();

@@ -1,4 +1,6 @@
-// The suite registry: a new suite is one file under suites/ plus one line in registry.cpp.
+// The suite registry: a new suite is one folder under suites/ (NAME/NAME.cpp defining
+// `SuiteEntry NAME_suite()`, and NAME/CMakeLists.txt) plus one line hyfal_suite(NAME) in
+// suites/CMakeLists.txt, which generates the list registry.cpp expands.
 #pragma once
 #include <string_view>
 #include <vector>
@@ -6,21 +8,6 @@
 #include "core/suite.hpp"
 
 namespace hyfal {
-
-SuiteEntry thermostat_suite();
-SuiteEntry example31_suite();
-SuiteEntry linear_suite();
-SuiteEntry hovercraft_suite();
-SuiteEntry guard_intruder_suite();
-SuiteEntry navigation_suite();
-SuiteEntry blimp_suite();
-SuiteEntry aircraft_suite();
-SuiteEntry at_suite();
-SuiteEntry cc_suite();
-SuiteEntry f16_suite();
-SuiteEntry afc_suite();
-SuiteEntry nn_suite();
-SuiteEntry sc_suite();
 
 const std::vector<SuiteEntry>& all_suites();
 // A resolved instance as its key: the parameters at their unkeyed value (OptionSpec::unkeyed_value:

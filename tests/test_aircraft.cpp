@@ -1,4 +1,4 @@
-// Aircraft conflict-resolution suite (suites/aircraft.cpp; seed 003 Sect. 6.1, seed 002 Sect.
+// Aircraft conflict-resolution suite (suites/aircraft/aircraft.cpp; seed 003 Sect. 6.1, seed 002 Sect.
 // 4.2): the wind dynamics (eqs. 5-7), the protocol on scripted two- and three-aircraft encounters
 // (turns, half circle, back to cruise, arrival), the safer protocol's turn rule, the random
 // instance generator, the decomposition, the instance key, and HyDICE and RRT witnesses on the
@@ -19,7 +19,7 @@
 #include "core/planner.hpp"
 #include "core/system.hpp"
 #include "core/trajectory.hpp"
-#include "suites/aircraft.hpp"
+#include "suites/aircraft/aircraft.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

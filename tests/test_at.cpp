@@ -1,4 +1,4 @@
-// The ARCH-COMP automatic transmission (suites/at.cpp): replays the Simulink reference trace
+// The ARCH-COMP automatic transmission (suites/at/at.cpp): replays the Simulink reference trace
 // (tests/data/at-simulink-trace.csv, a copy of ../shared/arch/at-simulink-trace.csv) and checks
 // every shift within one sample (0.04 s) of the trace's, speed within 0.5 % of the trace's top
 // speed and engine speed within 0.5 % of the trace's value at every sample; every declared

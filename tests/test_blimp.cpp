@@ -1,4 +1,4 @@
-// Blimp suite (suites/blimp.cpp, seed 003 Sect. 6.2): instance and info, dynamics by hand, the
+// Blimp suite (suites/blimp/blimp.cpp, seed 003 Sect. 6.2): instance and info, dynamics by hand, the
 // feedback in calm air (target speed and altitude), waypoint following to the goal with the
 // localized waypoint switch, the wind filter's bounds, an adversarial wind schedule that hits the
 // tower, and rrt / enhanced-rrt finding collisions whose witnesses validate (and none where P
@@ -291,7 +291,7 @@ TEST(Blimp, WindStaysInBounds) {
   EXPECT_GE(gust.x.back()[WY], -kW);
 }
 
-// The best three-piece schedule found for p = (95, -62.2) (suites/blimp.cpp): wind from the
+// The best three-piece schedule found for p = (95, -62.2) (suites/blimp/blimp.cpp): wind from the
 // north-east, then from the north-west, then from the south-west through the turn.
 std::vector<double> adversary(double t) {
   if (t < 104.0 - 1e-9) return {-kW, -kW};

@@ -1,4 +1,4 @@
-// The chasing-cars suite (ARCH-COMP CC, suites/cc.cpp): its requirements parse verbatim, constant
+// The chasing-cars suite (ARCH-COMP CC, suites/cc/cc.cpp): its requirements parse verbatim, constant
 // full throttle violates CC1 by about the margin cc-model.md measured, and random inputs reproduce
 // cc-model.md's evidence for the printed Keeping sign (CCx never falsified, CC1 rarely) against the
 // corrected one (CCx always, CC1 often). Also the mode logic and a tree search falsifying CC1.

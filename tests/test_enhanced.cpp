@@ -91,7 +91,7 @@ TEST(TimeToGo, ClosedFormEqualsExhaustiveSearch) {
 // the same node, the one that moves x1 LEAST toward x_rand keeps more of its distance in the fast
 // direction, so it has the larger closing speed and the smaller t2go. In the off mode with x_rand
 // cooler, argmin t2go picks the slowest cooling (u = -1) where the metric picks the fastest
-// (u = -3), and the counterexample needs fast cooling (suites/thermostat.cpp).
+// (u = -3), and the counterexample needs fast cooling (suites/thermostat/thermostat.cpp).
 TEST(TimeToGo, ThermostatInputChoiceByT2goMovesTheLeastTowardTheSample) {
   const SuiteEntry* suite = find_suite("thermostat");
   const auto sys = suite->make(resolve_options(suite->parameters, {}));

@@ -20,7 +20,7 @@ namespace hyfal {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kOffset = 5.0;  // ℓ of the guards' law (suites/guard_intruder.cpp)
+constexpr double kOffset = 5.0;  // ℓ of the guards' law (suites/guard_intruder/guard_intruder.cpp)
 constexpr double kRs = 100.0, kRd = 100.0, kRc = 40.0, kRi = 300.0;
 
 std::shared_ptr<const System> make(std::vector<std::pair<std::string, std::string>> sets = {}) {

@@ -19,7 +19,7 @@
 #include "core/planners/hydice/hydice.hpp"
 #include "core/system.hpp"
 #include "core/trajectory.hpp"
-#include "suites/navigation.hpp"
+#include "suites/navigation/navigation.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

@@ -1,4 +1,4 @@
-// Navigation suite (suites/navigation.cpp, seed 002 Sect. 4.1): the Kruskal maze (spanning,
+// Navigation suite (suites/navigation/navigation.cpp, seed 002 Sect. 4.1): the Kruskal maze (spanning,
 // symmetric, the p = 0.9 step only opens more passages), each vehicle's dynamics against hand
 // derivatives and its bounds, the velocity reset on a terrain change, walls stopping a
 // propagation, the drivers' intervals, generation at n = 1024 (time and memory), and the
@@ -19,7 +19,7 @@
 #include "core/system.hpp"
 #include "core/trajectory.hpp"
 #include "core/decomposition.hpp"
-#include "suites/navigation.hpp"
+#include "suites/navigation/navigation.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

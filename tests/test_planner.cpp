@@ -36,7 +36,7 @@ TEST(Rrt, FalsifiesThermostatAndWitnessValidates) {
     ASSERT_TRUE(out.trajectory);
     const Trajectory& t = *out.trajectory;
     EXPECT_LE(t.final_spec, 0.0);
-    // Counterexamples lie at x2 in [2, 2.25] (see suites/thermostat.cpp).
+    // Counterexamples lie at x2 in [2, 2.25] (see suites/thermostat/thermostat.cpp).
     EXPECT_GE(t.final_x[1], 2.0 - 1e-9);
     EXPECT_LE(t.final_x[1], 2.25 + 1e-9);
     EXPECT_GE(out.counters.nodes, 2);

@@ -1,4 +1,4 @@
-// Seed 000 suites (suites/example31.cpp, linear.cpp, hovercraft.cpp): dynamics against
+// Seed 000 suites (suites/example31/example31.cpp, linear.cpp, hovercraft.cpp): dynamics against
 // derivatives computed by hand, the hovercraft's wind-region switch localized at r = 100,
 // specification signs, instance validation, the paper tables they declare, and baseline RRT
 // making progress (falsifying example31 with a witness that validates).

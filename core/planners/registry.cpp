@@ -1,43 +1,28 @@
-// The method registry: a new planner is one folder under core/planners/ plus one line here.
+// The method registry: a new planner is one folder under core/planners/ plus one line
+// hyfal_planner(NAME) in core/planners/CMakeLists.txt, which generates the list expanded here.
 #include "core/planner.hpp"
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "core/planners/adaptive/adaptive.hpp"
-#include "core/planners/enhanced_rrt/enhanced_rrt.hpp"
-#include "core/planners/hydice/hydice.hpp"
-#include "core/planners/optimizers/optimizers.hpp"
-#ifdef HYFAL_HAVE_OMPL
-#include "core/planners/ompl/ompl_methods.hpp"
-#endif
-#include "core/planners/rrft/rrft.hpp"
-#include "core/planners/rrt/rrt.hpp"
-#include "core/planners/rrt_dstar/rrt_dstar.hpp"
+#include "planner_list.hpp"  // generated: each planner's header, HYFAL_PLANNERS(X) = X(NAME)...
 
 namespace hyfal {
 
 const std::vector<MethodEntry>& all_methods() {
-  static const std::vector<MethodEntry> methods = {
-      rrt_method(),
-      enhanced_rrt_method(),
-      hydice_method(),
-      hydice_noleads_method(),
-      rrt_dstar_method(),
-      rrft_method(),
-      random_search_method(),
-      simulated_annealing_method(),
-      cmaes_method(),
-      nelder_mead_method(),
-      adaptive_method(),
-      adaptive_local_method(),
-#ifdef HYFAL_HAVE_OMPL  // last, so that a build without OMPL lists a prefix of the README's settings table
-      ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method(),
-#endif
-  };
+  static const std::vector<MethodEntry> methods = [] {
+    std::vector<MethodEntry> all;
+#define HYFAL_PLANNER_METHODS(name) \
+  for (MethodEntry& m : name##_methods()) all.push_back(std::move(m));
+    HYFAL_PLANNERS(HYFAL_PLANNER_METHODS)
+#undef HYFAL_PLANNER_METHODS
+    return all;
+  }();
   return methods;
 }
 

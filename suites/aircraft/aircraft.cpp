@@ -151,7 +151,7 @@
 // 77.61 s), RRT ≥ 17.9 [3/5] / 7.2 [4/5] / ≥ 11.7 [3/5], RRT[D*] ≥ 30 [2/5] / 8.3 [4/5] / ≥ 30
 // [2/5]; the 5-aircraft crossing: every method in 0.04-0.1 s. RRFT on esposito5 (10 trials):
 // median 639 nodes, 4 seeds (the first Halton seeds already succeed), 0.12 s.
-#include "suites/aircraft.hpp"
+#include "suites/aircraft/aircraft.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // and tools need beyond the System interface — the scenarios (hand-made 5-aircraft crossing,
 // seed 002's random generator), the protocol's modes and state layout, the safer protocol's
 // turn rule, and a System over any scenario. The constants and every modelling choice are
-// documented in one place, at the top of suites/aircraft.cpp.
+// documented in one place, at the top of suites/aircraft/aircraft.cpp.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -51,7 +51,7 @@ struct AircraftConstants {
 // Seed 002 Sect. 4.2.2, exact formulas (h = floor(N/2) top aircraft), drawn from `seed` with a
 // platform-independent SplitMix64 stream. Initial headings point at the goals.
 AircraftScenario aircraft_random_scenario(int n, double p, std::uint64_t seed);
-// The hand-made 5-aircraft crossing for seed 003 Example 1 (see suites/aircraft.cpp).
+// The hand-made 5-aircraft crossing for seed 003 Example 1 (see suites/aircraft/aircraft.cpp).
 AircraftScenario aircraft_esposito5_scenario();
 
 // Minimum distance between aircraft i at (x_i, y_i, θ_i) and j at (x_j, y_j, θ_j) when i turns

@@ -242,7 +242,7 @@ SuiteEntry cc_suite() {
            {"integration_step", 0.05, "fixed RK4 step, s (also the STL sampling step)", "[0.001, 1]"},
            {"interpolation", "hermite", "states inside a step, where shifts are located: the step's cubic Hermite "
             "interpolant, or RK4 re-steps from its start (2x slower; the CC results stored before 2026-12-05; see "
-            "suites/cc.cpp)", "hermite|restep", "restep"}},
+            "suites/cc/cc.cpp)", "hermite|restep", "restep"}},
           make_cc};
 }
 

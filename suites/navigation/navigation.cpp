@@ -52,7 +52,7 @@
 // in hyfal a method applies u from Ū_q, which cannot depend on the state. So Ū_q is a grid over
 // the vehicle's input box (input_levels points per input, endpoints included; default 3: full
 // negative / zero / full positive, 9 inputs), the same for every driver, and the drivers are
-// navigation_driver_interval() (suites/navigation.hpp) for planners that draw u from them (the
+// navigation_driver_interval() (suites/navigation/navigation.hpp) for planners that draw u from them (the
 // HyDICE planner). The pseudo-code is implemented literally, reading "0.0.2" as "0, 0.2":
 //   Random  f(a,i,c,L,R) = [-m_i, m_i]
 //   Student a in (0.2, 1]: [-L m_i, R(c-1) m_i]; a in [-1, -0.2): [R(1-c) m_i, L m_i]; else Random
@@ -114,7 +114,7 @@
 //    (a BFS once per instance), the lead search's A* heuristic (NavigationDecomposition below).
 //  - Coverage grid over (x, y), spacing n s / min(4n, 1024): a quarter terrain up to n = 256,
 //    then at most 1025 x 1025 points (spacing s at n = 1024, 4 MB of grid).
-#include "suites/navigation.hpp"
+#include "suites/navigation/navigation.hpp"
 
 #include <algorithm>
 #include <bit>

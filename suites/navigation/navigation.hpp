@@ -5,7 +5,7 @@
 // This header is for the code that needs more than the System interface: the HyDICE planner
 // (the terrain graph for its discrete search, the driver models for its input choice), the
 // instance export, and tests. The constants and every modelling choice are documented in one
-// place, at the top of suites/navigation.cpp.
+// place, at the top of suites/navigation/navigation.cpp.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -37,7 +37,7 @@ struct NavVehicleLimits {
   double a_max, b_max;    // |a| <= a_max, |b| <= b_max (part of the mode's invariant)
   double u0_max, u1_max;  // U = [-u0_max, u0_max] x [-u1_max, u1_max]
 };
-// How SDDrive's printed wheel limits "5°/s, 10°/s²" are read (see suites/navigation.cpp).
+// How SDDrive's printed wheel limits "5°/s, 10°/s²" are read (see suites/navigation/navigation.cpp).
 enum class NavWheelUnit : std::uint8_t { radians = 0, degrees = 1 };
 NavVehicleLimits navigation_limits(NavVehicle v, NavWheelUnit unit = NavWheelUnit::radians);
 std::string_view navigation_vehicle_name(NavVehicle v);  // "SCar", "SUni", "SDDrive"

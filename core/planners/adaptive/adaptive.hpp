@@ -11,6 +11,10 @@ MethodEntry adaptive_method();
 // The tree-optimiser hybrid: the same tree, each new best pass polished by a short Nelder-Mead.
 MethodEntry adaptive_local_method();
 
+// This folder's methods, in the order `hyfal list` shows them: the registry's entry
+// (hyfal_planner(adaptive) in core/planners/CMakeLists.txt).
+inline std::vector<MethodEntry> adaptive_methods() { return {adaptive_method(), adaptive_local_method()}; }
+
 namespace adaptive {
 
 // The input values of refinement level `level` over `inputs` dimensions, as fractions of each

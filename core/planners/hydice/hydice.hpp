@@ -165,4 +165,8 @@ std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng
 MethodEntry hydice_method();
 MethodEntry hydice_noleads_method();
 
+// This folder's methods, in the order `hyfal list` shows them: the registry's entry
+// (hyfal_planner(hydice) in core/planners/CMakeLists.txt).
+inline std::vector<MethodEntry> hydice_methods() { return {hydice_method(), hydice_noleads_method()}; }
+
 }  // namespace hyfal

@@ -1,4 +1,4 @@
-// The adapter between hyfal's System and OMPL 1.5's control planning (ompl_methods.hpp lists the
+// The adapter between hyfal's System and OMPL 1.5's control planning (ompl.hpp lists the
 // methods built on it). One set of objects per trial; nothing is shared between trials.
 //
 // State space (HybridStateSpace): R^n with the mode q and an `admissible` flag carried in every

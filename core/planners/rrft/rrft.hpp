@@ -1,4 +1,6 @@
 #pragma once
+#include <vector>
+
 #include "core/planner.hpp"
 
 namespace hyfal {
@@ -8,5 +10,9 @@ namespace hyfal {
 // the seeds' dispersion µ(P̄) is above µ̄, then restarted at seeds not yet covered (issue 27).
 // See rrft.cpp for the conventions, the restart rule and the defaults.
 MethodEntry rrft_method();
+
+// This folder's methods, in the order `hyfal list` shows them: the registry's entry
+// (hyfal_planner(rrft) in core/planners/CMakeLists.txt).
+inline std::vector<MethodEntry> rrft_methods() { return {rrft_method()}; }
 
 }  // namespace hyfal

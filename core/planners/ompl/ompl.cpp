@@ -1,4 +1,4 @@
-// OMPL's control planners on hyfal's suites (see ompl_methods.hpp; the adapter: hybrid_space.hpp).
+// OMPL's control planners on hyfal's suites (see ompl.hpp; the adapter: hybrid_space.hpp).
 //
 // A trial: build the problem (state space, control space, propagator, goal = the unsafe set,
 // start states = the suite's initial states), run the planner under a termination condition
@@ -15,7 +15,7 @@
 //
 // Determinism: see hybrid_space.hpp (every RNG that drives the search is seeded per trial; Syclop's
 // private start/goal-region draw has one outcome on the suites with a grid).
-#include "core/planners/ompl/ompl_methods.hpp"
+#include "core/planners/ompl/ompl.hpp"
 
 #include <cmath>
 #include <deque>

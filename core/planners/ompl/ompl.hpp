@@ -12,6 +12,8 @@
 // solution (controls and durations) is replayed through the same propagator into an ordinary
 // witness, which the trial engine validates like every other method's.
 #pragma once
+#include <vector>
+
 #include "core/planner.hpp"
 
 namespace hyfal {
@@ -21,5 +23,9 @@ MethodEntry ompl_kpiece_method();
 MethodEntry ompl_sst_method();
 MethodEntry ompl_syclop_rrt_method();
 MethodEntry ompl_syclop_est_method();
+
+// This folder's methods, in the order `hyfal list` shows them: the registry's entry
+// (hyfal_planner(ompl) in core/planners/CMakeLists.txt).
+inline std::vector<MethodEntry> ompl_methods() { return {ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method()}; }
 
 }  // namespace hyfal
