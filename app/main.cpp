@@ -43,8 +43,6 @@ using namespace hyfal;
 
 namespace {
 
-// A bad input: reported as one line, exit code 2.
-
 void write_output(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
     std::cout << text;

@@ -9,8 +9,8 @@
 //                 |                   | rerun resumes            |
 //
 // Beneath them (each reaches Python as hyfal.<name>, a subclass of its base's class):
-//   InputError:       OptionError (core/run/options), RequirementError (core/requirements),
-//                     WitnessError (core/witness), ExperimentFileError (app), UsageError and
+//   InputError:       OptionError (core/options.hpp), RequirementError (core/requirements),
+//                     WitnessError (core/trajectory.hpp), ExperimentFileError (app), UsageError and
 //                     MethodNotApplicable (app), StoreInputError (results), ClusterSetupError
 //                     (parallel)
 //   EnvironmentError: StoreEnvironmentError (results), ClusterFailure (parallel)
