@@ -15,7 +15,7 @@
 #include "app/experiment_file.hpp"
 #include "app/plot.hpp"
 #include "app/runner.hpp"
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "results/experiment_report.hpp"
 #include "results/statistics.hpp"
 #include "results/table_writer.hpp"

@@ -14,8 +14,8 @@
 
 #include "app/runner.hpp"
 #include "app/table_file_reader.hpp"
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/method_entry.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

@@ -10,10 +10,11 @@
 #include <string_view>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/paper_table.hpp"
-#include "core/suite.hpp"
+#include "core/util/error.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/run/suite_entry.hpp"
 #include "results/table_writer.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 

@@ -1,4 +1,4 @@
-// A league table file (core/paper_table.hpp TableLeague): rows = requirements, each with its own
+// A league table file (core/run/paper_table.hpp TableLeague): rows = requirements, each with its own
 // suite and settings; columns = methods with options; the published tools' numbers; profiles
 // smoke and quick (required), full and published (optional). Every setting is checked against
 // the suite and method of every cell it reaches, so a file that reads is one every cell of which
@@ -11,6 +11,7 @@
 
 #include "app/table_file_reader.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal::table_file {
 

@@ -22,10 +22,11 @@
 #include "app/reproduce.hpp"
 #include "app/runner.hpp"
 #include "app/simulate.hpp"
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/rng.hpp"
-#include "core/trajectory.hpp"
+#include "core/util/rng.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "parallel/cluster.hpp"
 #include "parallel/trial_engine.hpp"
 #include "results/statistics.hpp"
@@ -33,6 +34,8 @@
 #include "results/store.hpp"
 #include "results/table_writer.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/model/signal_model.hpp"
 
 #ifndef HYFAL_SOURCE_DIR
 #define HYFAL_SOURCE_DIR "."
@@ -641,7 +644,7 @@ int dispatch(CommandLine& c) {
 }
 
 // The exception a command threw (call it in a catch block) as one line on stderr and its exit
-// code, classified by core/error.hpp: 2 for bad input, 3 for a machine that failed (a rerun
+// code, classified by core/util/error.hpp: 2 for bad input, 3 for a machine that failed (a rerun
 // resumes), 1 for anything else.
 int report_failure() {
   try {

@@ -16,7 +16,7 @@
 #include <fmt/format.h>
 
 #include "app/runner.hpp"
-#include "core/trajectory.hpp"
+#include "core/witness/witness.hpp"
 
 extern char** environ;
 

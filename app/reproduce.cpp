@@ -22,6 +22,7 @@
 #include "results/sweep_report.hpp"
 #include "results/text_format.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace fs = std::filesystem;
 

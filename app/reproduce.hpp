@@ -5,7 +5,7 @@
 #include <string>
 
 #include "app/runner.hpp"
-#include "core/paper_table.hpp"
+#include "core/run/paper_table.hpp"
 
 namespace hyfal::cli {
 

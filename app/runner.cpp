@@ -18,10 +18,11 @@
 #include <fmt/format.h>
 
 #include "app/plan.hpp"
-#include "core/options.hpp"
-#include "core/rng.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/cluster.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 #ifndef HYFAL_SOURCE_DIR
 #define HYFAL_SOURCE_DIR "."

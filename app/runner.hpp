@@ -13,11 +13,12 @@
 #include <vector>
 
 #include "app/shard.hpp"
-#include "core/error.hpp"
-#include "core/paper_table.hpp"
-#include "core/suite.hpp"
+#include "core/util/error.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/run/suite_entry.hpp"
 #include "parallel/trial_engine.hpp"
 #include "results/store.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 

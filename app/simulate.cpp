@@ -11,11 +11,15 @@
 #include <fmt/ranges.h>
 
 #include "app/runner.hpp"
-#include "core/files.hpp"
-#include "core/options.hpp"
+#include "core/util/files.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/trajectory.hpp"
+#include "core/witness/witness.hpp"
 #include "suites/registry.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/simulate/input_signal.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/simulate/input_simulator.hpp"
 
 namespace hyfal::cli {
 

@@ -10,7 +10,7 @@
 // (SystemInfo::input_aliases: `time,throttle,brake` for at). Anything else: one line naming the
 // row and column, exit 2, nothing written.
 //
-// Each requirement is judged on the trace (core/requirements/simulate.hpp, TraceVerdict): a
+// Each requirement is judged on the trace (core/requirements/trace_monitor.hpp, TraceVerdict): a
 // trace shorter than a requirement's horizon is a prefix, shown with its robustness interval and
 // the verdict it decides, else "unknown: trace too short". A requirement given with
 // --set requirement=X that such a trace cannot decide is an error (exit 2, nothing written).
@@ -18,7 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "core/requirements/simulate.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/simulate/input_signal.hpp"
+#include "core/requirements/trace_monitor.hpp"
 
 namespace hyfal::cli {
 

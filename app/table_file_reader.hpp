@@ -17,8 +17,8 @@
 
 #include "app/experiment_file.hpp"
 #include "app/runner.hpp"
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal::table_file {
 

@@ -14,7 +14,9 @@
 
 #include "bench/bench_support.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
 
 namespace hyfal::bench {
 namespace {

@@ -14,7 +14,7 @@
 #include "bench/bench_support.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/robustness.hpp"
-#include "core/rng.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal::bench {
 namespace {

@@ -9,8 +9,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/decomposition.hpp"
-#include "core/options.hpp"
+#include "core/model/decomposition.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/planners/hydice/hydice.hpp"
 #include "suites/navigation/navigation.hpp"
 #include "suites/registry.hpp"

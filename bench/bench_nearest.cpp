@@ -9,7 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
-#include "core/nearest.hpp"
+#include "core/search/nearest_neighbors.hpp"
 
 namespace hyfal::bench {
 namespace {

@@ -10,9 +10,9 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
-#include "core/metrics/time_to_go.hpp"
-#include "core/nearest.hpp"
-#include "core/system.hpp"
+#include "core/search/metrics/time_to_go.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/simulate/model_system.hpp"
 
 namespace hyfal::bench {
 namespace {

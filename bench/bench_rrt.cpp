@@ -9,8 +9,10 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
-#include "core/planner.hpp"
-#include "core/rng.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal::bench {
 namespace {

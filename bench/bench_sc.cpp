@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
+#include "core/model/signal_model.hpp"
 
 namespace hyfal::bench {
 namespace {

@@ -11,8 +11,9 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal::bench {
 namespace {

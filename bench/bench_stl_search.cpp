@@ -16,11 +16,13 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_support.hpp"
-#include "core/nearest.hpp"
+#include "core/search/nearest_neighbors.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/rng.hpp"
-#include "core/tree.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/util/rng.hpp"
+#include "core/search/node_store.hpp"
 
 namespace hyfal::bench {
 namespace {

@@ -10,9 +10,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal::bench {

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
+#include "core/util/error.hpp"
 #include "parallel/trial_engine.hpp"
 #include "parallel/trial_wire.hpp"
 
@@ -26,7 +26,7 @@ namespace hyfal {
 
 // A failure of the distributed run's set-up: hyfal built without MPI but launched by mpirun,
 // ranks built from different sources, a worker that cannot run trials. One line.
-// The mixin of ClusterSetupError and ClusterFailure (core/error.hpp), so that
+// The mixin of ClusterSetupError and ClusterFailure (core/util/error.hpp), so that
 // `catch (const ClusterError&)` sees both.
 class ClusterError {
  public:

@@ -26,9 +26,12 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/files.hpp"
-#include "core/rng.hpp"
-#include "core/trial_cpu.hpp"
+#include "core/util/files.hpp"
+#include "core/util/rng.hpp"
+#include "core/util/trial_cpu_clock.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 

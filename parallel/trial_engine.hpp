@@ -9,9 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "core/files.hpp"  // EnvironmentError
-#include "core/planner.hpp"
-#include "core/trial_record.hpp"
+#include "core/util/files.hpp"  // EnvironmentError
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/run/trial_record.hpp"
 
 namespace hyfal {
 

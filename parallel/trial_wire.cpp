@@ -1,4 +1,5 @@
 #include "parallel/trial_wire.hpp"
+#include "core/run/method_entry.hpp"
 
 #include <stdexcept>
 #include <utility>

@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 #include "parallel/trial_engine.hpp"
 
 namespace hyfal {

@@ -1,9 +1,10 @@
 // hyfal.BlackBox: a Python function `simulate(time, inputs) -> (time, signals)` as a
-// stl::SignalModel (core/requirements/simulate.hpp) behind make_black_box (core/black_box.hpp),
+// stl::SignalModel (core/model/signal_model.hpp) behind make_black_box (core/model/black_box.hpp),
 // so that the signal searches of hyfal.falsify drive it as they drive a suite, and the validator
 // re-checks a witness by calling the function again. The function is called with the GIL held
 // (hyfal.falsify releases it otherwise), so trials on several threads call it one at a time.
-#include "python/black_box.hpp"
+#include "python/python_black_box.hpp"
+#include "core/model/signal_model.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -15,8 +15,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "core/model.hpp"
-#include "core/planner.hpp"
+#include "core/model/system.hpp"
+#include "core/run/option_spec.hpp"
 
 namespace hyfal::python {
 

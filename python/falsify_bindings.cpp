@@ -20,18 +20,21 @@
 #include <fmt/ranges.h>
 
 #include "app/runner.hpp"
-#include "core/options.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
 #include "parallel/trial_engine.hpp"
-#include "core/black_box.hpp"
+#include "core/model/black_box.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/rng.hpp"
-#include "python/black_box.hpp"
+#include "core/util/rng.hpp"
+#include "python/python_black_box.hpp"
 #include "python/bindings.hpp"
 #include "python/conversions.hpp"
 #include "python/suite.hpp"
 #include "results/store.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/model/signal_model.hpp"
 
 namespace hyfal::python {
 

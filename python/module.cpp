@@ -2,7 +2,7 @@
 // through the app library's runner, and the results database as numpy columns. A thin layer: every
 // computation is the C++ library's (core/requirements, suites/registry, app/runner with
 // parallel/trial_engine, results/store). This file holds the module and the translation of
-// hyfal's errors (core/error.hpp) into Python classes; the bindings are python/*_bindings.cpp,
+// hyfal's errors (core/util/error.hpp) into Python classes; the bindings are python/*_bindings.cpp,
 // their shared conversions python/conversions.hpp.
 #include <map>
 #include <string>
@@ -13,10 +13,10 @@
 
 #include "app/experiment_file.hpp"
 #include "app/runner.hpp"
-#include "core/error.hpp"
-#include "core/options.hpp"
+#include "core/util/error.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/formula.hpp"
-#include "core/trajectory.hpp"
+#include "core/witness/witness.hpp"
 #include "parallel/cluster.hpp"
 #include "python/bindings.hpp"
 #include "results/store.hpp"
@@ -30,7 +30,7 @@ namespace {
 
 namespace py = pybind11;
 
-// Each C++ error class of core/error.hpp as a Python class: its name (Error::name()), its bases
+// Each C++ error class of core/util/error.hpp as a Python class: its name (Error::name()), its bases
 // in the module (or Python's own for the two roots and the mixins) and its docstring.
 struct ErrorClass {
   const char* name;

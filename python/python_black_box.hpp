@@ -1,8 +1,8 @@
-// hyfal.BlackBox: a user's model in Python, known only by its simulations (core/black_box.hpp).
+// hyfal.BlackBox: a user's model in Python, known only by its simulations (core/model/black_box.hpp).
 #pragma once
 #include <memory>
 
-#include "core/black_box.hpp"
+#include "core/model/black_box.hpp"
 #include "python/conversions.hpp"
 
 namespace hyfal::python {

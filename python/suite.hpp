@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "core/paper_table.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/suite.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/run/suite_entry.hpp"
 #include "python/conversions.hpp"
 
 namespace hyfal::python {

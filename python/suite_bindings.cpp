@@ -12,9 +12,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/simulate/input_signal.hpp"
+#include "core/requirements/trace_monitor.hpp"
 #include "python/bindings.hpp"
 #include "python/conversions.hpp"
 #include "python/suite.hpp"

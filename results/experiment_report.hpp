@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/trial_record.hpp"
+#include "core/run/trial_record.hpp"
 #include "results/statistics.hpp"
 #include "results/table_writer.hpp"
 

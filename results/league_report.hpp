@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/paper_table.hpp"
-#include "core/trial_record.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/run/trial_record.hpp"
 #include "results/paper_report.hpp"
 #include "results/statistics.hpp"
 

@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/paper_table.hpp"
-#include "core/trial_record.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/run/trial_record.hpp"
 #include "results/statistics.hpp"
 
 namespace hyfal {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/trial_record.hpp"
+#include "core/run/trial_record.hpp"
 
 namespace hyfal {
 

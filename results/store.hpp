@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/trial_record.hpp"
+#include "core/util/error.hpp"
+#include "core/run/trial_record.hpp"
 
 struct sqlite3;
 struct sqlite3_stmt;
@@ -35,7 +35,7 @@ enum class StoreErrorKind {
 };
 
 // Any failure of the results database: the mixin of StoreInputError and StoreEnvironmentError
-// (core/error.hpp), so that `catch (const StoreError&)` sees both. what() is one line naming the
+// (core/util/error.hpp), so that `catch (const StoreError&)` sees both. what() is one line naming the
 // database and the cause. Thrown by throw_store_error, which picks the class by the kind.
 class StoreError {
  public:

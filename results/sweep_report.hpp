@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/paper_table.hpp"
-#include "core/trial_record.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/run/trial_record.hpp"
 #include "results/paper_report.hpp"
 #include "results/statistics.hpp"
 
@@ -48,7 +48,7 @@ struct SweepReport {
 SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
                               int columns_run, bool skip_after_all_stopped = false);
-// The same with the columns run given one flag each (columns_run of core/paper_table.hpp).
+// The same with the columns run given one flag each (columns_run of core/run/paper_table.hpp).
 SweepReport make_sweep_report(const PaperTable& table,
                               const std::vector<std::vector<std::vector<std::vector<TrialRecord>>>>& trials,
                               const std::vector<bool>& run, bool skip_after_all_stopped = false);

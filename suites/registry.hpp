@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/suite.hpp"
+#include "core/run/suite_entry.hpp"
 
 namespace hyfal {
 

@@ -1,19 +1,17 @@
 // A model known only by its simulations (a black box), as a System: its input signal goes in, its
-// output signals come out (stl::SignalModel, core/requirements/simulate.hpp), with no states,
+// output signals come out (stl::SignalModel, core/simulate/input_simulator.hpp), with no states,
 // modes or flows to see. A user's own model in another language (the Python module's
 // hyfal.BlackBox) is one. Only the searches over whole input signals (the optimisers and the
-// adaptive search, core/signal_search.hpp: MethodEntry::searches_signals, check_method_for_system) can drive it; the
-// trees, which propagate a state, cannot. Its witnesses are re-checked by the validator by running
-// the model again on their input (validate_witness), and its inputs are a held signal of δt
-// (SystemInfo::held_inputs), interpolation admitted (a linear signal reaches the model as 10
-// pieces per δt).
+// adaptive search, core/planners/signal_search.hpp: MethodEntry::searches_signals, check_method_for_system) can drive
+// it; the trees, which propagate a state, cannot. Its witnesses are re-checked by the validator by running the model
+// again on their input (validate_witness), and its inputs are a held signal of δt (SystemInfo::held_inputs),
+// interpolation admitted (a linear signal reaches the model as 10 pieces per δt).
 #pragma once
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "core/planner.hpp"
-#include "core/requirements/simulate.hpp"
+#include "core/model/signal_model.hpp"
 
 namespace hyfal {
 

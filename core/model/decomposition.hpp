@@ -26,7 +26,7 @@
 #include <span>
 #include <vector>
 
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 
 namespace hyfal {
 

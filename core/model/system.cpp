@@ -1,4 +1,4 @@
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -19,7 +19,8 @@ InputSet InputSet::grid(Box box, int levels) {
   for (std::size_t i = 0; i < m; ++i) {
     count *= static_cast<std::size_t>(levels);
     if (count > kMaxInputs)
-      throw std::invalid_argument(fmt::format("input grid: {} levels in {} dimensions exceed {} inputs", levels, m, kMaxInputs));
+      throw std::invalid_argument(
+          fmt::format("input grid: {} levels in {} dimensions exceed {} inputs", levels, m, kMaxInputs));
   }
   s.values.reserve(count * m);
   std::vector<int> idx(m, 0);

@@ -42,7 +42,7 @@
 //    Optional: `static constexpr std::array<int, K> flow_unread = {...};` the components the flow
 //    never reads in any mode (time, clocks): ROS34PW2 then sets their Jacobian columns to 0 instead
 //    of differencing the flow (a declaration that is wrong gives a wrong Jacobian, which a W-method
-//    survives with a larger error; core/rosenbrock.hpp).
+//    survives with a larger error; core/simulate/rosenbrock.hpp).
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the
@@ -71,7 +71,7 @@ class SignalModel;
 
 namespace hyfal {
 
-class Decomposition;  // core/decomposition.hpp
+class Decomposition;  // core/model/decomposition.hpp
 
 using Mode = std::uint64_t;
 using Json = nlohmann::json;
@@ -110,15 +110,13 @@ struct InputSet {
   std::vector<double> values;
   std::size_t dim() const { return box.dim(); }
   std::size_t count() const { return box.dim() == 0 ? 1 : values.size() / box.dim(); }
-  std::span<const double> input(std::size_t j) const {
-    return {values.data() + j * box.dim(), box.dim()};
-  }
+  std::span<const double> input(std::size_t j) const { return {values.data() + j * box.dim(), box.dim()}; }
   // Ū as the tensor grid with `levels` points per input dimension (endpoints included).
   static InputSet grid(Box box, int levels);
 };
 
-// rk4: classical fixed-step RK4 (core/rk4.hpp); dopri5: adaptive Dormand-Prince 5 with dense
-// output; rosenbrock: ROS34PW2 (core/rosenbrock.hpp), linearly implicit and L-stable, for a stiff
+// rk4: classical fixed-step RK4 (core/simulate/rk4.hpp); dopri5: adaptive Dormand-Prince 5 with dense
+// output; rosenbrock: ROS34PW2 (core/simulate/rosenbrock.hpp), linearly implicit and L-stable, for a stiff
 // flow, with step-size control to abs_tol and rel_tol from a first step `step` (every propagation
 // starts there: no step size is carried from one to the next) up to max_step (a fixed step when
 // the tolerances are too loose to reject any and max_step = step). RK4 and ROS34PW2 share
@@ -132,18 +130,18 @@ enum class IntegratorKind { rk4, dopri5, rosenbrock };
 //  - hermite: the cubic Hermite interpolant through the step's end states and their
 //    derivatives (one more flow evaluation in a step where a guard changes sign, then a cubic per
 //    state; exact where the solution is a polynomial of degree <= 3), and a regula falsi
-//    (Anderson-Björck; Newton's method for guards_affine, core/root_bracket.hpp) brackets the
+//    (Anderson-Björck; Newton's method for guards_affine, core/simulate/root_bracket.hpp) brackets the
 //    event: for a model that switches at almost every step, where the re-steps and toms748's own
 //    arithmetic were two thirds of a simulation (suites/cc/cc.cpp's `interpolation`).
 enum class StepInterpolation { restep, hermite };
 
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::rk4;
-  double step = 0.01;        // rk4: fixed step; dopri5: initial step
-  double max_step = 0.05;    // dopri5: largest step, so that no event is stepped over
-  double abs_tol = 1e-9;     // dopri5 error control
+  double step = 0.01;      // rk4: fixed step; dopri5: initial step
+  double max_step = 0.05;  // dopri5: largest step, so that no event is stepped over
+  double abs_tol = 1e-9;   // dopri5 error control
   double rel_tol = 1e-9;
-  double event_time_tol = 1e-12;  // width of the final bracket around an event time
+  double event_time_tol = 1e-12;                                // width of the final bracket around an event time
   StepInterpolation interpolation = StepInterpolation::restep;  // rk4 only
 };
 
@@ -159,12 +157,12 @@ concept StateGuards = requires(const M m, Mode q, int k, const double* x, const 
 
 // Compile-time model interface; see the conventions above.
 template <class M>
-concept HybridModel = (StateGuards<M> || InputGuards<M>) &&
-                      requires(const M m, Mode q, int k, const double* x, double* xm,
-                               const double* u, const double* p, double* dx) {
+concept HybridModel = (StateGuards<M> || InputGuards<M>)&&requires(const M m, Mode q, int k, const double* x,
+                                                                   double* xm, const double* u, const double* p,
+                                                                   double* dx) {
   { m.dim() } -> std::convertible_to<int>;
   { m.valid_mode(q) } -> std::same_as<bool>;
-  { m.flow(q, x, u, p, dx) };
+  {m.flow(q, x, u, p, dx)};
   { m.guard_count(q) } -> std::convertible_to<int>;
   { m.jump(q, k, xm, p) } -> std::convertible_to<Mode>;
   { m.invariant(q, x, p) } -> std::convertible_to<bool>;
@@ -206,11 +204,11 @@ class SampleSink {
 
 struct PropagationResult {
   PropagationEnd end = PropagationEnd::completed;
-  double duration = 0.0;  // flow time taken in the start mode
-  Mode mode = 0;          // mode after the propagation (after the reset when jumped)
-  int transition = -1;    // guard index taken, -1 when none
-  double spec = 0.0;      // s at the end state
-  std::int64_t steps = 0; // integration steps taken
+  double duration = 0.0;   // flow time taken in the start mode
+  Mode mode = 0;           // mode after the propagation (after the reset when jumped)
+  int transition = -1;     // guard index taken, -1 when none
+  double spec = 0.0;       // s at the end state
+  std::int64_t steps = 0;  // integration steps taken
 };
 
 // One thread's integrator with its own workspace (no allocation per step or propagation).
@@ -232,13 +230,12 @@ class Propagator {
   void set_trace(SampleSink* sink) { sink_ = sink; }
   SampleSink* trace() const { return sink_; }
   // Flows (q, x) under constant u for at most `duration`; see PropagationEnd. out has dim().
-  virtual PropagationResult propagate(Mode q, std::span<const double> x,
-                                      std::span<const double> u, std::span<const double> p,
-                                      double duration, std::span<double> out) = 0;
+  virtual PropagationResult propagate(Mode q, std::span<const double> x, std::span<const double> u,
+                                      std::span<const double> p, double duration, std::span<double> out) = 0;
   // Flows in mode q for exactly `duration`, ignoring guards, invariant and spec: the pieces
   // of a witness. Returns the number of steps, or -1 when the state became non-finite.
-  virtual std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u,
-                            std::span<const double> p, double duration, std::span<double> out) = 0;
+  virtual std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                            double duration, std::span<double> out) = 0;
 
  protected:
   // Integration steps between two reads of the clock: a read costs about as much as a few RK4
@@ -295,8 +292,8 @@ struct SystemInfo {
   std::vector<std::string> state_names;
   std::vector<std::string> input_names;
   std::vector<std::string> parameter_names;
-  Box parameter_box;                   // time-invariant parameters P (may be 0-dimensional)
-  std::vector<double> parameters;      // p used by methods that do not search over P
+  Box parameter_box;               // time-invariant parameters P (may be 0-dimensional)
+  std::vector<double> parameters;  // p used by methods that do not search over P
   Mode initial_mode = 0;
   std::vector<double> initial_state;
   // Further initial states (same mode): planners grow one tree per initial state (a forest, as
@@ -315,12 +312,12 @@ struct SystemInfo {
   // drivers of seed 002 Sect. 4.1.2).
   bool continuous_random_inputs = false;
   // With continuous_random_inputs: how many inputs a method that tries every input of Ū and keeps
-  // the best (rrt, rrt-dstar, rrft, enhanced-rrt) draws per extension instead (core/inputs.hpp).
+  // the best (rrt, rrt-dstar, rrft, enhanced-rrt) draws per extension instead (core/search/input_grid.hpp).
   int random_inputs_per_extension = 1;
   // The inputs are an external signal, constant over pieces of δt whatever the system does (the
   // ARCH-COMP input instances): the same box in every mode and at every state. Under an STL
   // requirement a tree edge then holds its input for the whole δt through the transitions on the
-  // way (core/held_input.hpp), so that a tree's input signal is one the instance admits, and the
+  // way (core/simulate/held_input.hpp), so that a tree's input signal is one the instance admits, and the
   // validator checks that a witness's input changes only at multiples of δt. Otherwise (false,
   // or reachability of s <= 0) an edge ends at the first transition (seed 002 Alg. 3).
   bool held_inputs = false;
@@ -330,7 +327,7 @@ struct SystemInfo {
   // change its input between multiples of δt, along the line between them (validate_witness).
   bool interpolated_inputs = false;
   IntegratorSettings integrator;
-  double witness_tolerance = 1e-6;     // validation tolerance on states and on s
+  double witness_tolerance = 1e-6;  // validation tolerance on states and on s
   // A witness records the states of the pieces where the input changes (and of the first and
   // last), not of every piece (make_witness): for a model with a transition at every controller
   // tick (AFC: 5,011 pieces of 137 states, 33 MB of JSON otherwise). The validator re-simulates
@@ -366,8 +363,8 @@ class System {
   virtual bool valid_mode(Mode q) const = 0;
   virtual const InputSet& inputs(Mode q) const = 0;
   virtual std::string mode_name(Mode q) const { return std::to_string(q); }
-  virtual void derivative(Mode q, std::span<const double> x, std::span<const double> u,
-                          std::span<const double> p, std::span<double> dx) const = 0;
+  virtual void derivative(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                          std::span<double> dx) const = 0;
   // True when f(q, x, u; p) is affine in u (then max over a box of a linear form of f has a
   // closed form, seed 000 Sect. III-A). A model declares it with `static constexpr bool
   // input_affine = true;`.
@@ -375,10 +372,9 @@ class System {
   // State-dependent admissible inputs — a driver model (seed 002 Sect. 4.1.2): at state x in
   // mode q only the box [lo, hi] ⊆ U_q may be applied. When false (the default) U_q applies at
   // every state. Methods draw u from input_bounds (HyDICE) or map Ū_q onto it (InputGrid,
-  // core/inputs.hpp); the witness validator checks every piece's u against it.
+  // core/search/input_grid.hpp); the witness validator checks every piece's u against it.
   virtual bool state_dependent_inputs() const { return false; }
-  virtual void input_bounds(Mode q, std::span<const double> x, std::span<double> lo,
-                            std::span<double> hi) const {
+  virtual void input_bounds(Mode q, std::span<const double> x, std::span<double> lo, std::span<double> hi) const {
     const Box& b = inputs(q).box;
     std::copy(b.lo.begin(), b.lo.end(), lo.begin());
     std::copy(b.hi.begin(), b.hi.end(), hi.begin());
@@ -401,9 +397,9 @@ class System {
   std::unique_ptr<Propagator> make_propagator() const { return make_propagator(info().integrator); }
   // The region decomposition of seed 002 Sect. 3.2 (HyDICE), when the suite provides one.
   virtual const Decomposition* decomposition() const { return nullptr; }
-  // A model known only by its simulations (a black box: core/black_box.hpp), when it is one:
+  // A model known only by its simulations (a black box: core/model/black_box.hpp), when it is one:
   // then it has no states, modes or flows, and only the searches over input signals, which
-  // simulate whole signals (core/signal_search.hpp), can drive it.
+  // simulate whole signals (core/planners/signal_search.hpp), can drive it.
   virtual const stl::SignalModel* signal_model() const { return nullptr; }
 };
 

@@ -1,10 +1,14 @@
-#include "core/signal_search.hpp"
+#include "core/planners/signal_search.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "core/model/signal_model.hpp"
+#include "core/witness/validator.hpp"
+#include "core/witness/witness.hpp"
 
 namespace hyfal {
 
@@ -22,12 +26,18 @@ OptionSpec input_shape_option() {
 }
 
 SignalSimulations::SignalSimulations(const PlannerContext& ctx, std::int64_t budget, double horizon, InputShape shape)
-    : ctx_(ctx), system_(ctx.system), requirement_(*ctx.system.info().requirement), budget_(ctx),
-      max_simulations_(std::min(budget, ctx.limits.max_nodes)), budget_option_(budget), shape_(shape) {
+    : ctx_(ctx),
+      system_(ctx.system),
+      requirement_(*ctx.system.info().requirement),
+      budget_(ctx),
+      max_simulations_(std::min(budget, ctx.limits.max_nodes)),
+      budget_option_(budget),
+      shape_(shape) {
   dt_ = system_.info().step_duration;
   pieces_ = static_cast<std::size_t>(std::max(1.0, std::ceil(horizon / dt_ - 1e-9)));
   if (shape_ == InputShape::linear)
-    fine_per_piece_ = static_cast<std::size_t>(std::max(1.0, std::ceil(dt_ / system_.info().integrator.max_step - 1e-9)));
+    fine_per_piece_ =
+        static_cast<std::size_t>(std::max(1.0, std::ceil(dt_ / system_.info().integrator.max_step - 1e-9)));
   reserve(1);
 }
 
@@ -35,7 +45,8 @@ const Box& SignalSimulations::input_box() const { return system_.inputs(system_.
 
 void SignalSimulations::reserve(std::size_t n) {
   while (slots_.size() < n) {
-    std::vector<stl::InputPiece> pieces(pieces_, stl::InputPiece{dt_, std::vector<double>(system_.info().input_names.size())});
+    std::vector<stl::InputPiece> pieces(pieces_,
+                                        stl::InputPiece{dt_, std::vector<double>(system_.info().input_names.size())});
     slots_.push_back(std::make_unique<SignalSlot>(system_, requirement_, std::move(pieces)));
     slots_.back()->parameters.assign(ctx_.parameters.begin(), ctx_.parameters.end());
     slots_.back()->simulator.set_interrupt(budget_.interrupt());  // a simulation past the deadline ends too
@@ -91,7 +102,8 @@ double SignalSimulations::account(const SignalSlot& slot) {
   steps_ += slot.steps;
   if (slot.interrupted) throw SearchOver{TrialStatus::timeout};
   if (!slot.problem.empty())
-    throw std::invalid_argument("the signal searches drive the system with one input box in every mode: " + slot.problem);
+    throw std::invalid_argument("the signal searches drive the system with one input box in every mode: " +
+                                slot.problem);
   ++simulations_;
   simulated_time_ += slot.end_time;
   double rho = slot.rho;
@@ -156,22 +168,27 @@ double signal_horizon(const System& system, double horizon_option) {
 void check_signal_system(const System& system, double horizon_option, InputShape shape, bool parameters) {
   const SystemInfo& info = system.info();
   if (!info.requirement)
-    throw std::invalid_argument("the signal searches (optimisers, adaptive) minimise an STL requirement's robustness: "
-                                "--set requirement=... (hyfal list shows the suite's)");
+    throw std::invalid_argument(
+        "the signal searches (optimisers, adaptive) minimise an STL requirement's robustness: "
+        "--set requirement=... (hyfal list shows the suite's)");
   if (info.input_names.empty() && !(parameters && info.parameter_box.has_width()))
-    throw std::invalid_argument(fmt::format("suite '{}' has no inputs to search{}", info.suite,
-                                            info.parameter_box.has_width() ? " (its parameters P: rrft, the optimisers)" : ""));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' has no inputs to search{}", info.suite,
+                    info.parameter_box.has_width() ? " (its parameters P: rrft, the optimisers)" : ""));
   if (system.state_dependent_inputs())
-    throw std::invalid_argument(fmt::format("suite '{}' admits inputs that depend on the state (its drivers): a control-point "
-                                            "signal cannot respect them",
-                                            info.suite));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' admits inputs that depend on the state (its drivers): a control-point "
+                    "signal cannot respect them",
+                    info.suite));
   if (shape == InputShape::linear && info.held_inputs && !info.interpolated_inputs)
-    throw std::invalid_argument(fmt::format("input_shape = linear: suite '{}' at this instance admits only inputs held "
-                                            "constant for δt (ARCH-COMP instance 2); use input_instance=1, or "
-                                            "input_shape=constant",
-                                            info.suite));
+    throw std::invalid_argument(
+        fmt::format("input_shape = linear: suite '{}' at this instance admits only inputs held "
+                    "constant for δt (ARCH-COMP instance 2); use input_instance=1, or "
+                    "input_shape=constant",
+                    info.suite));
   if (!std::isfinite(signal_horizon(system, horizon_option)))
-    throw std::invalid_argument("the requirement has an unbounded horizon: give the signal's length (--set horizon=...)");
+    throw std::invalid_argument(
+        "the requirement has an unbounded horizon: give the signal's length (--set horizon=...)");
 }
 
 }  // namespace hyfal

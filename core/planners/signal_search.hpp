@@ -33,9 +33,13 @@
 #include <string>
 #include <vector>
 
-#include "core/planner.hpp"
+#include "core/model/signal_model.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/simulate/input_signal.hpp"
+#include "core/simulate/input_simulator.hpp"
 
 namespace hyfal {
 
@@ -52,7 +56,7 @@ struct SearchOver {
 };
 
 // One simulation's scratch: its simulator (propagator and trace buffers), monitor and signal. A
-// search that simulates B signals at once has B (core/parallel_slots.hpp).
+// search that simulates B signals at once has B (core/search/parallel_slots.hpp).
 struct SignalSlot {
   SignalSlot(const System& system, const stl::Requirement& requirement, std::vector<stl::InputPiece> pieces)
       : simulator(system), monitor(requirement), pieces(std::move(pieces)) {}
@@ -81,9 +85,9 @@ class SignalSimulations {
                     InputShape shape = InputShape::constant);
 
   InputShape shape() const { return shape_; }
-  std::size_t pieces() const { return pieces_; }      // K
-  double piece_duration() const { return dt_; }       // δt
-  const Box& input_box() const;                       // U of the initial mode: every piece's bounds
+  std::size_t pieces() const { return pieces_; }  // K
+  double piece_duration() const { return dt_; }   // δt
+  const Box& input_box() const;                   // U of the initial mode: every piece's bounds
   // Whether the search writes each slot's parameters (P has width), and P.
   bool searches_parameters() const { return parameter_box().has_width(); }
   const Box& parameter_box() const { return system_.info().parameter_box; }
@@ -135,9 +139,9 @@ class SignalSimulations {
 };
 
 // What a signal search needs of a system (a method's check_system, and its solve()): an STL
-// requirement, inputs or parameters to search (`parameters`: the method searches P), a box that does not depend on the state, a finite signal length. Throws
-// std::invalid_argument naming what is missing.
-// A linear shape needs an instance that admits it (a held signal's instance 2 does not).
+// requirement, inputs or parameters to search (`parameters`: the method searches P), a box that does not depend on the
+// state, a finite signal length. Throws std::invalid_argument naming what is missing. A linear shape needs an instance
+// that admits it (a held signal's instance 2 does not).
 void check_signal_system(const System& system, double horizon_option, InputShape shape = InputShape::constant,
                          bool parameters = true);
 // The signal's length: the option's, or the requirement's horizon (0: unset).

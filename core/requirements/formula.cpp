@@ -23,9 +23,28 @@ RequirementError::RequirementError(std::string_view context, const RequirementEr
 namespace {
 
 enum class Tok : std::uint8_t {
-  end, number, name, lparen, rparen, lbracket, rbracket, comma,
-  plus, minus, star, slash, less, less_equal, greater, greater_equal, equal, not_equal,
-  implies, and_, or_, not_,
+  end,
+  number,
+  name,
+  lparen,
+  rparen,
+  lbracket,
+  rbracket,
+  comma,
+  plus,
+  minus,
+  star,
+  slash,
+  less,
+  less_equal,
+  greater,
+  greater_equal,
+  equal,
+  not_equal,
+  implies,
+  and_,
+  or_,
+  not_,
 };
 
 struct Token {
@@ -80,34 +99,61 @@ std::vector<Token> tokenize(std::string_view s) {
     } else {
       ++i;
       switch (c) {
-        case '(': t.kind = Tok::lparen; break;
-        case ')': t.kind = Tok::rparen; break;
-        case '[': t.kind = Tok::lbracket; break;
-        case ']': t.kind = Tok::rbracket; break;
-        case ',': t.kind = Tok::comma; break;
-        case '+': t.kind = Tok::plus; break;
-        case '*': t.kind = Tok::star; break;
-        case '/': t.kind = Tok::slash; break;
+        case '(':
+          t.kind = Tok::lparen;
+          break;
+        case ')':
+          t.kind = Tok::rparen;
+          break;
+        case '[':
+          t.kind = Tok::lbracket;
+          break;
+        case ']':
+          t.kind = Tok::rbracket;
+          break;
+        case ',':
+          t.kind = Tok::comma;
+          break;
+        case '+':
+          t.kind = Tok::plus;
+          break;
+        case '*':
+          t.kind = Tok::star;
+          break;
+        case '/':
+          t.kind = Tok::slash;
+          break;
         case '-':
-          if (two('>')) ++i, t.kind = Tok::implies;
-          else t.kind = Tok::minus;
+          if (two('>'))
+            ++i, t.kind = Tok::implies;
+          else
+            t.kind = Tok::minus;
           break;
         case '=':
-          if (two('=')) ++i, t.kind = Tok::equal;
-          else if (two('>')) ++i, t.kind = Tok::implies;
-          else throw RequirementError(col(start), "'=' is not an operator (equality is '==')");
+          if (two('='))
+            ++i, t.kind = Tok::equal;
+          else if (two('>'))
+            ++i, t.kind = Tok::implies;
+          else
+            throw RequirementError(col(start), "'=' is not an operator (equality is '==')");
           break;
         case '<':
-          if (two('=')) ++i, t.kind = Tok::less_equal;
-          else t.kind = Tok::less;
+          if (two('='))
+            ++i, t.kind = Tok::less_equal;
+          else
+            t.kind = Tok::less;
           break;
         case '>':
-          if (two('=')) ++i, t.kind = Tok::greater_equal;
-          else t.kind = Tok::greater;
+          if (two('='))
+            ++i, t.kind = Tok::greater_equal;
+          else
+            t.kind = Tok::greater;
           break;
         case '!':
-          if (two('=')) ++i, t.kind = Tok::not_equal;
-          else t.kind = Tok::not_;
+          if (two('='))
+            ++i, t.kind = Tok::not_equal;
+          else
+            t.kind = Tok::not_;
           break;
         case '&':
           if (!two('&')) throw RequirementError(col(start), "'&' is not an operator (conjunction is 'and' or '&&')");
@@ -139,8 +185,8 @@ std::vector<Token> tokenize(std::string_view s) {
 }
 
 bool is_relation(Tok k) {
-  return k == Tok::less || k == Tok::less_equal || k == Tok::greater || k == Tok::greater_equal ||
-         k == Tok::equal || k == Tok::not_equal;
+  return k == Tok::less || k == Tok::less_equal || k == Tok::greater || k == Tok::greater_equal || k == Tok::equal ||
+         k == Tok::not_equal;
 }
 bool is_arithmetic(Tok k) { return k == Tok::plus || k == Tok::minus || k == Tok::star || k == Tok::slash; }
 
@@ -172,7 +218,8 @@ class Parser {
     return true;
   }
   void expect(Tok k, const char* what) {
-    if (peek().kind != k) throw RequirementError(peek().column, fmt::format("expected {}, found {}", what, describe(peek())));
+    if (peek().kind != k)
+      throw RequirementError(peek().column, fmt::format("expected {}, found {}", what, describe(peek())));
     ++pos_;
   }
 
@@ -265,7 +312,8 @@ class Parser {
   double bound(const char* what) {
     const Token& t = peek();
     if (t.kind == Tok::minus) throw RequirementError(t.column, fmt::format("{} must be >= 0", what));
-    if (t.kind != Tok::number) throw RequirementError(t.column, fmt::format("expected a number for {}, found {}", what, describe(t)));
+    if (t.kind != Tok::number)
+      throw RequirementError(t.column, fmt::format("expected a number for {}, found {}", what, describe(t)));
     ++pos_;
     return t.number;
   }
@@ -274,18 +322,19 @@ class Parser {
     const int lhs = expression();
     const Token& t = peek();
     if (!is_relation(t.kind))
-      throw RequirementError(t.column, fmt::format("expected a comparison (<, <=, >, >=, ==, !=), found {}", describe(t)));
+      throw RequirementError(t.column,
+                             fmt::format("expected a comparison (<, <=, >, >=, ==, !=), found {}", describe(t)));
     ++pos_;
     const int rhs = expression();
     FormulaNode n{Operator::compare};
     n.lhs = lhs;
     n.rhs = rhs;
-    n.relation = t.kind == Tok::less ? Relation::less
-                 : t.kind == Tok::less_equal ? Relation::less_equal
-                 : t.kind == Tok::greater ? Relation::greater
+    n.relation = t.kind == Tok::less            ? Relation::less
+                 : t.kind == Tok::less_equal    ? Relation::less_equal
+                 : t.kind == Tok::greater       ? Relation::greater
                  : t.kind == Tok::greater_equal ? Relation::greater_equal
-                 : t.kind == Tok::equal ? Relation::equal
-                                        : Relation::not_equal;
+                 : t.kind == Tok::equal         ? Relation::equal
+                                                : Relation::not_equal;
     return add(n);
   }
 
@@ -343,8 +392,10 @@ class Parser {
         if (constant(e)) return make_constant(-value(e), t.column);
         return add(ExpressionNode{ExpressionNode::Kind::negate, e});
       }
-      case Tok::plus: return factor();
-      case Tok::number: return make_constant(t.number, t.column);
+      case Tok::plus:
+        return factor();
+      case Tok::number:
+        return make_constant(t.number, t.column);
       case Tok::lparen: {
         const int e = expression();
         expect(Tok::rparen, "')'");
@@ -364,8 +415,8 @@ class Parser {
             throw RequirementError(t.column, fmt::format("'{}' needs a formula, not a value, here", t.text));
           std::string known;
           for (const auto& s : f_.signals) known += (known.empty() ? "" : ", ") + s;
-          throw RequirementError(t.column, fmt::format("unknown signal '{}' (signals: {})", t.text,
-                                                       known.empty() ? "none" : known));
+          throw RequirementError(
+              t.column, fmt::format("unknown signal '{}' (signals: {})", t.text, known.empty() ? "none" : known));
         }
         ExpressionNode n{ExpressionNode::Kind::signal};
         n.signal = static_cast<int>(it - f_.signals.begin());
@@ -387,13 +438,20 @@ std::string number_text(double v) { return fmt::format("{}", v); }  // shortest 
 std::string expression_text(const Formula& f, int e) {
   const ExpressionNode& n = f.expressions[e];
   switch (n.kind) {
-    case ExpressionNode::Kind::constant: return n.value < 0 ? "(" + number_text(n.value) + ")" : number_text(n.value);
-    case ExpressionNode::Kind::signal: return f.signals[n.signal];
-    case ExpressionNode::Kind::add: return "(" + expression_text(f, n.left) + " + " + expression_text(f, n.right) + ")";
-    case ExpressionNode::Kind::subtract: return "(" + expression_text(f, n.left) + " - " + expression_text(f, n.right) + ")";
-    case ExpressionNode::Kind::negate: return "(-" + expression_text(f, n.left) + ")";
-    case ExpressionNode::Kind::scale: return "(" + number_text(n.value) + " * " + expression_text(f, n.left) + ")";
-    case ExpressionNode::Kind::abs: return "abs(" + expression_text(f, n.left) + ")";
+    case ExpressionNode::Kind::constant:
+      return n.value < 0 ? "(" + number_text(n.value) + ")" : number_text(n.value);
+    case ExpressionNode::Kind::signal:
+      return f.signals[n.signal];
+    case ExpressionNode::Kind::add:
+      return "(" + expression_text(f, n.left) + " + " + expression_text(f, n.right) + ")";
+    case ExpressionNode::Kind::subtract:
+      return "(" + expression_text(f, n.left) + " - " + expression_text(f, n.right) + ")";
+    case ExpressionNode::Kind::negate:
+      return "(-" + expression_text(f, n.left) + ")";
+    case ExpressionNode::Kind::scale:
+      return "(" + number_text(n.value) + " * " + expression_text(f, n.left) + ")";
+    case ExpressionNode::Kind::abs:
+      return "abs(" + expression_text(f, n.left) + ")";
   }
   return {};
 }
@@ -410,12 +468,18 @@ std::string formula_text(const Formula& f, int i) {
     case Operator::compare:
       return "(" + expression_text(f, n.lhs) + " " + kRelation[static_cast<int>(n.relation)] + " " +
              expression_text(f, n.rhs) + ")";
-    case Operator::negation: return "(not " + formula_text(f, n.left) + ")";
-    case Operator::conjunction: return "(" + formula_text(f, n.left) + " and " + formula_text(f, n.right) + ")";
-    case Operator::disjunction: return "(" + formula_text(f, n.left) + " or " + formula_text(f, n.right) + ")";
-    case Operator::implication: return "(" + formula_text(f, n.left) + " -> " + formula_text(f, n.right) + ")";
-    case Operator::always: return "(always" + interval_text(n) + " " + formula_text(f, n.left) + ")";
-    case Operator::eventually: return "(eventually" + interval_text(n) + " " + formula_text(f, n.left) + ")";
+    case Operator::negation:
+      return "(not " + formula_text(f, n.left) + ")";
+    case Operator::conjunction:
+      return "(" + formula_text(f, n.left) + " and " + formula_text(f, n.right) + ")";
+    case Operator::disjunction:
+      return "(" + formula_text(f, n.left) + " or " + formula_text(f, n.right) + ")";
+    case Operator::implication:
+      return "(" + formula_text(f, n.left) + " -> " + formula_text(f, n.right) + ")";
+    case Operator::always:
+      return "(always" + interval_text(n) + " " + formula_text(f, n.left) + ")";
+    case Operator::eventually:
+      return "(eventually" + interval_text(n) + " " + formula_text(f, n.left) + ")";
     case Operator::until:
       return "(" + formula_text(f, n.left) + " until" + interval_text(n) + " " + formula_text(f, n.right) + ")";
   }
@@ -455,7 +519,8 @@ Formula with_margin(const Formula& f, double margin) {
     const FormulaNode& n = f.nodes[static_cast<std::size_t>(i)];
     const int p = polarity[static_cast<std::size_t>(i)];
     if (n.op == Operator::compare) continue;
-    if (n.left >= 0) polarity[static_cast<std::size_t>(n.left)] = n.op == Operator::negation || n.op == Operator::implication ? -p : p;
+    if (n.left >= 0)
+      polarity[static_cast<std::size_t>(n.left)] = n.op == Operator::negation || n.op == Operator::implication ? -p : p;
     if (n.right >= 0) polarity[static_cast<std::size_t>(n.right)] = p;
   }
   Formula out;

@@ -23,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/error.hpp"
+#include "core/util/error.hpp"
 
 namespace hyfal::stl {
 
@@ -51,7 +51,16 @@ struct ExpressionNode {
 
 enum class Relation : std::uint8_t { less, less_equal, greater, greater_equal, equal, not_equal };
 
-enum class Operator : std::uint8_t { compare, negation, conjunction, disjunction, implication, always, eventually, until };
+enum class Operator : std::uint8_t {
+  compare,
+  negation,
+  conjunction,
+  disjunction,
+  implication,
+  always,
+  eventually,
+  until
+};
 
 struct FormulaNode {
   Operator op;

@@ -21,11 +21,16 @@ bool is_temporal(Operator op) { return op == Operator::always || op == Operator:
 // which decrease (the same rule as OfflineMonitor's interval rows, on one sample).
 Interval boolean_interval(Operator op, Interval l, Interval r) {
   switch (op) {
-    case Operator::negation: return {-l.upper, -l.lower};
-    case Operator::conjunction: return {std::min(l.lower, r.lower), std::min(l.upper, r.upper)};
-    case Operator::disjunction: return {std::max(l.lower, r.lower), std::max(l.upper, r.upper)};
-    case Operator::implication: return {std::max(-l.upper, r.lower), std::max(-l.lower, r.upper)};
-    default: return l;
+    case Operator::negation:
+      return {-l.upper, -l.lower};
+    case Operator::conjunction:
+      return {std::min(l.lower, r.lower), std::min(l.upper, r.upper)};
+    case Operator::disjunction:
+      return {std::max(l.lower, r.lower), std::max(l.upper, r.upper)};
+    case Operator::implication:
+      return {std::max(-l.upper, r.lower), std::max(-l.lower, r.upper)};
+    default:
+      return l;
   }
 }
 
@@ -119,10 +124,11 @@ PrefixBounds PrefixMonitor::extend(std::span<const double> parent, std::span<con
 double PrefixMonitor::check(std::span<const double> parent, std::span<const double> samples) const {
   const std::size_t width = 1 + signals();
   if (parent.size() < header_ || parent.size() != header_ + static_cast<std::size_t>(parent[kPending]) * width)
-    throw std::invalid_argument(fmt::format("requirement: a prefix state of {} doubles does not fit the formula", parent.size()));
-  if (samples.size() % width != 0)
     throw std::invalid_argument(
-        fmt::format("requirement: {} sample values are not rows of {} (time and {} signals)", samples.size(), width, width - 1));
+        fmt::format("requirement: a prefix state of {} doubles does not fit the formula", parent.size()));
+  if (samples.size() % width != 0)
+    throw std::invalid_argument(fmt::format("requirement: {} sample values are not rows of {} (time and {} signals)",
+                                            samples.size(), width, width - 1));
   double previous = parent[kSamples] > 0 ? parent[kTime] : -kInf;
   for (std::size_t i = 0; i < samples.size(); i += width) {
     if (!(samples[i] >= previous) || !std::isfinite(samples[i]))

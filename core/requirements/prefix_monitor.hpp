@@ -65,9 +65,9 @@ namespace hyfal::stl {
 struct PrefixBounds {
   double lower = -std::numeric_limits<double>::infinity();  // every extension's robustness lies in
   double upper = std::numeric_limits<double>::infinity();   // [lower, upper]
-  bool complete = false;    // lower == upper: no extension can change it (horizon passed, or final)
-  double time = 0.0;        // time of the last sample seen (0 before any)
-  std::int64_t samples = 0; // samples seen so far
+  bool complete = false;     // lower == upper: no extension can change it (horizon passed, or final)
+  double time = 0.0;         // time of the last sample seen (0 before any)
+  std::int64_t samples = 0;  // samples seen so far
 };
 
 // One per thread (it has scratch buffers); the formula is copied in. States are opaque blobs of
@@ -85,8 +85,9 @@ class PrefixMonitor {
   // sample-major: time, then the signals' values in the formula's order. Times non-decreasing and
   // >= the parent's last time. final_trace: the trace ends after these samples (no sentinel).
   // Writes the child's state to `child` (resized; may not alias parent) and returns its bounds.
-  // A complete parent's child is its copy with only the time and the sample count moved on. Throws std::invalid_argument on a malformed state or samples (a wrong row width, times out
-  // of order or NaN, a final trace without any sample).
+  // A complete parent's child is its copy with only the time and the sample count moved on. Throws
+  // std::invalid_argument on a malformed state or samples (a wrong row width, times out of order or NaN, a final trace
+  // without any sample).
   PrefixBounds extend(std::span<const double> parent, std::span<const double> samples, bool final_trace,
                       std::vector<double>& child);
   // The bounds stored in a state (O(1), no scratch: callable concurrently on shared states).
@@ -119,9 +120,9 @@ class PrefixMonitor {
   bool settled(double t0, double t_last) const;
 
   OfflineMonitor monitor_;
-  std::vector<TopTemporal> temporal_;   // the top temporal operators
-  std::vector<int> atoms_;              // the top atoms; state[atom_slot_ + k] is atoms_[k]'s value
-  std::vector<char> top_;               // per node: reached from the root through Booleans only
+  std::vector<TopTemporal> temporal_;  // the top temporal operators
+  std::vector<int> atoms_;             // the top atoms; state[atom_slot_ + k] is atoms_[k]'s value
+  std::vector<char> top_;              // per node: reached from the root through Booleans only
   std::size_t atom_slot_ = 0, header_ = 0;
   // Scratch: the tail and the new samples, as a TraceView reads them, and the top nodes' bounds.
   std::size_t tail_ = 0;  // samples in time_

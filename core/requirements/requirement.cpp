@@ -9,14 +9,6 @@
 
 namespace hyfal::stl {
 
-std::vector<SignalInfo> system_signals(const SystemInfo& info) {
-  std::vector<SignalInfo> all = info.outputs;
-  for (std::size_t i = 0; i < info.input_names.size(); ++i)
-    all.push_back({info.input_names[i], i < info.input_units.size() ? info.input_units[i] : "", "input"});
-  all.push_back({"safety", "", "s(q, x; p): <= 0 in the unsafe set (reachability as `always (safety > 0)`)"});
-  return all;
-}
-
 bool Requirement::reads_outputs() const {
   return std::any_of(sources.begin(), sources.end(), [&](int s) { return s < outputs; });
 }
@@ -47,7 +39,8 @@ void keep_read_signals(Formula& f, std::vector<int>& sources) {
 // info() is inner's, so propagators are inner's own (no extra call per integration step).
 class MonitoredSystem final : public System {
  public:
-  MonitoredSystem(std::shared_ptr<const System> inner, SystemInfo info) : inner_(std::move(inner)), info_(std::move(info)) {}
+  MonitoredSystem(std::shared_ptr<const System> inner, SystemInfo info)
+      : inner_(std::move(inner)), info_(std::move(info)) {}
   const SystemInfo& info() const override { return info_; }
   bool valid_mode(Mode q) const override { return inner_->valid_mode(q); }
   const InputSet& inputs(Mode q) const override { return inner_->inputs(q); }
@@ -69,11 +62,15 @@ class MonitoredSystem final : public System {
                           std::span<const double> p) const override {
     return inner_->guard_with_input(q, k, x, u, p);
   }
-  Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const override { return inner_->jump(q, k, x, p); }
+  Mode jump(Mode q, int k, std::span<double> x, std::span<const double> p) const override {
+    return inner_->jump(q, k, x, p);
+  }
   bool invariant(Mode q, std::span<const double> x, std::span<const double> p) const override {
     return inner_->invariant(q, x, p);
   }
-  double spec(Mode q, std::span<const double> x, std::span<const double> p) const override { return inner_->spec(q, x, p); }
+  double spec(Mode q, std::span<const double> x, std::span<const double> p) const override {
+    return inner_->spec(q, x, p);
+  }
   void outputs(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
                std::span<double> y) const override {
     inner_->outputs(q, x, u, p, y);
@@ -135,8 +132,11 @@ std::shared_ptr<const System> with_requirement(std::shared_ptr<const System> inn
 }
 
 SignalSampler::SignalSampler(const System& system, const Requirement& requirement)
-    : system_(system), requirement_(requirement), outputs_(system.info().outputs.size()),
-      reads_outputs_(requirement.reads_outputs()), reads_safety_(requirement.reads_safety()) {}
+    : system_(system),
+      requirement_(requirement),
+      outputs_(system.info().outputs.size()),
+      reads_outputs_(requirement.reads_outputs()),
+      reads_safety_(requirement.reads_safety()) {}
 
 void SignalSampler::begin(double t0, std::span<const double> u, std::span<const double> p, std::vector<double>& rows) {
   t0_ = t0;

@@ -2,10 +2,8 @@
 // parameter names one (a declared id or a formula), and how a propagation's trace becomes the
 // monitor's samples.
 //
-// Signals of every system, in this order (their indices are what Requirement::sources holds):
-// the suite's outputs (SystemInfo::outputs, values from M::outputs), the inputs (input_names,
-// constant along a tree edge), and `safety` = s(q, x; p), so that reachability of s <= 0 is also
-// the requirement `always (safety > 0)`.
+// A system's signals (outputs, inputs, safety) are listed by system_signals
+// (core/model/signal_model.hpp); Requirement::sources indexes them.
 #pragma once
 #include <limits>
 #include <memory>
@@ -14,13 +12,11 @@
 #include <string_view>
 #include <vector>
 
-#include "core/model.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/model/system.hpp"
 #include "core/requirements/formula.hpp"
 
 namespace hyfal::stl {
-
-// outputs, then inputs, then safety (see above).
-std::vector<SignalInfo> system_signals(const SystemInfo& info);
 
 struct Requirement {
   std::string id;            // the declared id it was named by; "" for a formula given inline
@@ -58,7 +54,9 @@ class SignalSampler final : public SampleSink {
   void begin(double t0, std::span<const double> u, std::span<const double> p, std::vector<double>& rows);
   void sample(double t, Mode q, std::span<const double> x, double safety) override;
   // A sample whose safety value is not at hand.
-  void sample(double t, Mode q, std::span<const double> x) { sample(t, q, x, std::numeric_limits<double>::quiet_NaN()); }
+  void sample(double t, Mode q, std::span<const double> x) {
+    sample(t, q, x, std::numeric_limits<double>::quiet_NaN());
+  }
   bool samples_unsafe_entries() const override { return reads_safety_; }
 
  private:

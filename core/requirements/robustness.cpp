@@ -138,8 +138,9 @@ Interval OfflineMonitor::robustness_interval(const TraceView& trace, bool final_
   prepare(known + 1);
   exact_ = false;
   sentinel_time_.assign(trace.time.begin(), trace.time.end());
-  sentinel_time_.push_back(closed_at_last_time ? std::nextafter(trace.time.back(), std::numeric_limits<double>::infinity())
-                                              : trace.time.back());
+  sentinel_time_.push_back(closed_at_last_time
+                               ? std::nextafter(trace.time.back(), std::numeric_limits<double>::infinity())
+                               : trace.time.back());
   time_ = sentinel_time_;
   upper_.resize(nodes_.size());
   evaluate_expressions(trace, trace.samples());
@@ -169,17 +170,29 @@ void OfflineMonitor::evaluate_expressions(const TraceView& trace, std::size_t co
     const double* l = x.left >= 0 ? expression_row(x.left) : nullptr;
     const double* r = x.right >= 0 ? expression_row(x.right) : nullptr;
     switch (x.kind) {
-      case ExpressionNode::Kind::constant: std::fill(out, out + n, x.value); break;
+      case ExpressionNode::Kind::constant:
+        std::fill(out, out + n, x.value);
+        break;
       case ExpressionNode::Kind::signal: {
         const double* s = trace.values.data() + static_cast<std::size_t>(x.signal) * stride;
         std::copy(s, s + n, out);
         break;
       }
-      case ExpressionNode::Kind::add: for (std::size_t i = 0; i < n; ++i) out[i] = l[i] + r[i]; break;
-      case ExpressionNode::Kind::subtract: for (std::size_t i = 0; i < n; ++i) out[i] = l[i] - r[i]; break;
-      case ExpressionNode::Kind::negate: for (std::size_t i = 0; i < n; ++i) out[i] = -l[i]; break;
-      case ExpressionNode::Kind::scale: for (std::size_t i = 0; i < n; ++i) out[i] = x.value * l[i]; break;
-      case ExpressionNode::Kind::abs: for (std::size_t i = 0; i < n; ++i) out[i] = std::abs(l[i]); break;
+      case ExpressionNode::Kind::add:
+        for (std::size_t i = 0; i < n; ++i) out[i] = l[i] + r[i];
+        break;
+      case ExpressionNode::Kind::subtract:
+        for (std::size_t i = 0; i < n; ++i) out[i] = l[i] - r[i];
+        break;
+      case ExpressionNode::Kind::negate:
+        for (std::size_t i = 0; i < n; ++i) out[i] = -l[i];
+        break;
+      case ExpressionNode::Kind::scale:
+        for (std::size_t i = 0; i < n; ++i) out[i] = x.value * l[i];
+        break;
+      case ExpressionNode::Kind::abs:
+        for (std::size_t i = 0; i < n; ++i) out[i] = std::abs(l[i]);
+        break;
     }
   }
 }
@@ -189,11 +202,19 @@ void OfflineMonitor::compare(const FormulaNode& node, double* out, std::size_t n
   const double* b = expression_row(node.rhs);
   switch (node.relation) {
     case Relation::less:
-    case Relation::less_equal: for (std::size_t i = 0; i < n; ++i) out[i] = b[i] - a[i]; break;
+    case Relation::less_equal:
+      for (std::size_t i = 0; i < n; ++i) out[i] = b[i] - a[i];
+      break;
     case Relation::greater:
-    case Relation::greater_equal: for (std::size_t i = 0; i < n; ++i) out[i] = a[i] - b[i]; break;
-    case Relation::equal: for (std::size_t i = 0; i < n; ++i) out[i] = 0.5 - std::abs(a[i] - b[i]); break;
-    case Relation::not_equal: for (std::size_t i = 0; i < n; ++i) out[i] = std::abs(a[i] - b[i]) - 0.5; break;
+    case Relation::greater_equal:
+      for (std::size_t i = 0; i < n; ++i) out[i] = a[i] - b[i];
+      break;
+    case Relation::equal:
+      for (std::size_t i = 0; i < n; ++i) out[i] = 0.5 - std::abs(a[i] - b[i]);
+      break;
+    case Relation::not_equal:
+      for (std::size_t i = 0; i < n; ++i) out[i] = std::abs(a[i] - b[i]) - 0.5;
+      break;
   }
 }
 
@@ -236,14 +257,26 @@ void OfflineMonitor::windows(const FormulaNode& node, std::size_t count) {
 void OfflineMonitor::apply(const FormulaNode& node, const double* l, const double* r, double* out, std::size_t count) {
   const std::size_t n = count;
   switch (node.op) {
-    case Operator::compare: return;  // compare() writes atoms
-    case Operator::negation: for (std::size_t i = 0; i < n; ++i) out[i] = -l[i]; return;
-    case Operator::conjunction: for (std::size_t i = 0; i < n; ++i) out[i] = std::min(l[i], r[i]); return;
-    case Operator::disjunction: for (std::size_t i = 0; i < n; ++i) out[i] = std::max(l[i], r[i]); return;
-    case Operator::implication: for (std::size_t i = 0; i < n; ++i) out[i] = std::max(-l[i], r[i]); return;
-    case Operator::always: return sliding<true>(l, n, start_.data(), end_.data(), kInf, deque_.data(), out);
-    case Operator::eventually: return sliding<false>(l, n, start_.data(), end_.data(), -kInf, deque_.data(), out);
-    case Operator::until: break;
+    case Operator::compare:
+      return;  // compare() writes atoms
+    case Operator::negation:
+      for (std::size_t i = 0; i < n; ++i) out[i] = -l[i];
+      return;
+    case Operator::conjunction:
+      for (std::size_t i = 0; i < n; ++i) out[i] = std::min(l[i], r[i]);
+      return;
+    case Operator::disjunction:
+      for (std::size_t i = 0; i < n; ++i) out[i] = std::max(l[i], r[i]);
+      return;
+    case Operator::implication:
+      for (std::size_t i = 0; i < n; ++i) out[i] = std::max(-l[i], r[i]);
+      return;
+    case Operator::always:
+      return sliding<true>(l, n, start_.data(), end_.data(), kInf, deque_.data(), out);
+    case Operator::eventually:
+      return sliding<false>(l, n, start_.data(), end_.data(), -kInf, deque_.data(), out);
+    case Operator::until:
+      break;
   }
   // until: ρ(i) = min(min φ over [i, s(i)), U(s(i)), max ψ over [s(i), e(i)]) with the untimed
   // until U(j) = min(φ_j, max(ψ_j, U(j+1))), U(n−1) = min(φ_{n−1}, ψ_{n−1}): the window's max of

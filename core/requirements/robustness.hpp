@@ -114,18 +114,18 @@ class OfflineMonitor {
   const double* expression_row(int e) const { return expressions_.data() + static_cast<std::size_t>(e) * n_; }
 
   Formula formula_;
-  std::size_t n_ = 0;                   // samples evaluated: the trace's, plus a prefix's sentinel
-  bool exact_ = true;                   // the last evaluation was robustness() or of a final trace
-  std::span<const double> time_;        // the evaluated samples' times: the trace's or sentinel_time_
-  std::vector<double> sentinel_time_;   // a prefix's times, then the sentinel's (the last again)
-  std::vector<double> expressions_;     // [expression][sample]
-  std::vector<double> nodes_;           // [node][sample]; a prefix's lower rows
-  std::vector<double> upper_;           // [node][sample]: a prefix's upper rows
-  std::vector<double> scratch_;         // until: the untimed until, then the window max of ψ
-  std::vector<std::size_t> deque_;      // the monotone deque's indices (a ring never longer than n)
+  std::size_t n_ = 0;                     // samples evaluated: the trace's, plus a prefix's sentinel
+  bool exact_ = true;                     // the last evaluation was robustness() or of a final trace
+  std::span<const double> time_;          // the evaluated samples' times: the trace's or sentinel_time_
+  std::vector<double> sentinel_time_;     // a prefix's times, then the sentinel's (the last again)
+  std::vector<double> expressions_;       // [expression][sample]
+  std::vector<double> nodes_;             // [node][sample]; a prefix's lower rows
+  std::vector<double> upper_;             // [node][sample]: a prefix's upper rows
+  std::vector<double> scratch_;           // until: the untimed until, then the window max of ψ
+  std::vector<std::size_t> deque_;        // the monotone deque's indices (a ring never longer than n)
   std::vector<std::size_t> start_, end_;  // each window's first sample and one past its last
-  std::vector<std::size_t> index_;      // until: 0, 1, ..., n − 1 (the lower ends of [i, s(i)))
-  std::vector<std::size_t> needed_;     // robustness(): the samples each node is evaluated at
+  std::vector<std::size_t> index_;        // until: 0, 1, ..., n − 1 (the lower ends of [i, s(i)))
+  std::vector<std::size_t> needed_;       // robustness(): the samples each node is evaluated at
 };
 
 // The window [s(i), e(i)] of every sample for the interval [a, b] (see above): O(n) with two

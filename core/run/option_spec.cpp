@@ -1,4 +1,4 @@
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -50,7 +50,8 @@ ValueRange ValueRange::parse(std::string_view text) {
   std::size_t start = 0;
   while (start <= t.size()) {
     const auto bar = t.find('|', start);
-    const std::string_view choice = trim(t.substr(start, bar == std::string_view::npos ? std::string_view::npos : bar - start));
+    const std::string_view choice =
+        trim(t.substr(start, bar == std::string_view::npos ? std::string_view::npos : bar - start));
     if (choice.empty()) throw std::logic_error(fmt::format("malformed range '{}': empty choice", text));
     r.choices.emplace_back(choice);
     if (bar == std::string_view::npos) break;
@@ -83,9 +84,12 @@ bool ValueRange::contains(const Json& v) const {
 std::string describe_range(const OptionSpec& spec) {
   const ValueRange r = ValueRange::parse(spec.range);
   switch (r.kind) {
-    case ValueRange::Kind::any: return "";
-    case ValueRange::Kind::interval: return fmt::format("must be in {}", spec.range);
-    case ValueRange::Kind::choices: return fmt::format("must be one of {}", spec.range);
+    case ValueRange::Kind::any:
+      return "";
+    case ValueRange::Kind::interval:
+      return fmt::format("must be in {}", spec.range);
+    case ValueRange::Kind::choices:
+      return fmt::format("must be one of {}", spec.range);
   }
   return "";
 }

@@ -7,10 +7,30 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/planner.hpp"
+#include "core/model/system.hpp"
+#include "core/util/error.hpp"
 
 namespace hyfal {
+
+// A declared setting (a method option or a suite's instance parameter): key, default (its JSON
+// type is the setting's type), help text and the valid values, declared once beside the default
+// (as OMPL's declareParam does with a range string):
+//   "[1, 1000]", "(0, 1]", "[0, inf)"  an interval (integers and numbers; inf allowed as a bound)
+//   "metric|t2go"                      the allowed strings
+//   ""                                 any value of the type (booleans, and the `requirement` text,
+//                                      which its parser checks; a test checks)
+// The functions below check values against it; `hyfal list` prints it.
+struct OptionSpec {
+  std::string key;
+  Json default_value;
+  std::string help;
+  std::string range = {};
+  // A suite parameter or method option added after results were stored: at this value (the
+  // behaviour before it existed) it is left out of the instance key, or of the options in the
+  // trial's config (canonical_instance), so stored keys, and the trial seeds drawn from them, keep
+  // meaning what they meant. Unset: always keyed.
+  std::optional<Json> unkeyed_value = std::nullopt;
+};
 
 // A setting that does not resolve: an unknown key, a value of the wrong type or out of range.
 class OptionError : public InputError {
@@ -19,7 +39,7 @@ class OptionError : public InputError {
   const char* name() const noexcept override { return "OptionError"; }
 };
 
-// The valid values of a setting, parsed from OptionSpec::range (see core/planner.hpp).
+// The valid values of a setting, parsed from OptionSpec::range (above).
 struct ValueRange {
   enum class Kind { any, interval, choices } kind = Kind::any;
   double lo = 0.0, hi = 0.0;  // interval bounds (may be infinite)

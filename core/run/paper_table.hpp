@@ -19,22 +19,22 @@ inline constexpr double kPaperTimeout = std::numeric_limits<double>::infinity();
 
 // A column the paper reports, and how ours is computed from the trials of a row.
 enum class TableMetric {
-  nodes,        // mean nodes over trials
-  time_s,       // mean wall time, seconds
-  coverage,     // mean of the per-trial metric "coverage" (see PlannerOutcome::metrics)
+  nodes,     // mean nodes over trials
+  time_s,    // mean wall time, seconds
+  coverage,  // mean of the per-trial metric "coverage" (see PlannerOutcome::metrics)
   falsified_rate,
 };
 
 struct PaperColumn {
-  std::string name;    // header, e.g. "nodes", "time (s)", "coverage after 5000 nodes"
+  std::string name;  // header, e.g. "nodes", "time (s)", "coverage after 5000 nodes"
   TableMetric metric;
   std::string metric_key;  // for TableMetric::coverage: the per-trial metric name
 };
 
 struct PaperRow {
-  std::string label;     // as the paper names the row, e.g. "t2go"
-  std::string method;    // registered method name
-  Settings settings;     // instance parameters and method options of this row
+  std::string label;          // as the paper names the row, e.g. "t2go"
+  std::string method;         // registered method name
+  Settings settings;          // instance parameters and method options of this row
   std::vector<double> paper;  // one value per column; NaN = not reported (N/A)
 };
 
@@ -86,8 +86,8 @@ struct TableSweep {
   std::string instance_key;        // e.g. "property"; empty: one instance per cell
   // The paper's values, [block][row][column], seconds; kPaperTimeout = the paper's "X".
   std::vector<std::vector<std::vector<double>>> paper;
-  double paper_timeout_s = 0.0;    // the paper's time limit behind "X"
-  bool median = false;             // cells are medians over the instances (seed 002 Table 2), not means
+  double paper_timeout_s = 0.0;  // the paper's time limit behind "X"
+  bool median = false;           // cells are medians over the instances (seed 002 Table 2), not means
 };
 
 // Which of the sweep's columns `profile` runs: column_labels when given, else the first `columns`
@@ -113,9 +113,9 @@ struct LeagueRow {
   Settings settings;  // the instance: its requirement and input instance
 };
 struct LeagueColumn {
-  std::string label;   // e.g. "RRT (guided)"
+  std::string label;  // e.g. "RRT (guided)"
   std::string method;
-  Settings settings;   // method options
+  Settings settings;  // method options
 };
 // Another tool's published numbers on one row (../shared/arch/published.md), shown beside ours.
 struct PublishedCell {
@@ -136,9 +136,9 @@ struct TableLeague {
 };
 
 struct PaperTable {
-  std::string id;        // e.g. "kim-table1"
+  std::string id;  // e.g. "kim-table1"
   std::string title;
-  std::string source;    // e.g. "seed 000 Table I (10 trials, 1 GHz PC)"
+  std::string source;  // e.g. "seed 000 Table I (10 trials, 1 GHz PC)"
   std::string suite;
   std::vector<PaperColumn> columns;
   std::vector<PaperRow> rows;
@@ -146,7 +146,7 @@ struct PaperTable {
   // Between quick and paper: the committed tables' profile (larger samples, every column, per-row
   // caps); optional in a table file.
   std::optional<TableProfile> full = {};
-  std::string notes;     // what differs from the paper's set-up, and why
+  std::string notes;  // what differs from the paper's set-up, and why
   // Per-trial series (PlannerOutcome::series names) exported to <id>-<name>.csv, e.g. the
   // sorted n_j of seed 000 Fig. 6 or coverage against nodes.
   std::vector<std::string> series = {};

@@ -1,9 +1,8 @@
-// The Planner interface: grow a search (tree, forest, ...) until a state with s <= 0 is found,
+// Planner: the interface every method implements: grow a search (tree, forest, ...) until a state with s <= 0 is found,
 // the time or node budget is spent, or the trial is cancelled.
 #pragma once
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -12,14 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "core/model.hpp"
-#include "core/trajectory.hpp"
-#include "core/tree.hpp"
-#include "core/trial_record.hpp"
+#include "core/model/system.hpp"
+#include "core/run/trial_record.hpp"
+#include "core/search/node_store.hpp"
+#include "core/witness/trajectory.hpp"
 
 namespace hyfal {
 
-class TrialCpuClock;  // core/trial_cpu.hpp
+class TrialCpuClock;  // core/util/trial_cpu_clock.hpp
 
 struct PlannerLimits {
   double timeout_s = 60.0;
@@ -84,7 +83,7 @@ struct PlannerContext {
   PlannerLimits limits;
   std::stop_token stop;  // cooperative cancellation
   // The trial's CPU clock: task bodies a planner runs on other threads go through cpu->task()
-  // (core/trial_cpu.hpp) so that cpu_s counts them; null outside the trial engine.
+  // (core/util/trial_cpu_clock.hpp) so that cpu_s counts them; null outside the trial engine.
   TrialCpuClock* cpu = nullptr;
   // Where the planner copies its search tree(s) at the end of solve (TreeRecorder); null: nowhere.
   TreeRecorder* trees = nullptr;
@@ -159,54 +158,5 @@ class SearchBudget {
   const PlannerContext& ctx_;
   std::chrono::steady_clock::time_point deadline_;
 };
-
-// A declared setting (a method option or a suite's instance parameter): key, default (its JSON
-// type is the setting's type), help text and the valid values, declared once beside the default
-// (as OMPL's declareParam does with a range string):
-//   "[1, 1000]", "(0, 1]", "[0, inf)"  an interval (integers and numbers; inf allowed as a bound)
-//   "metric|t2go"                      the allowed strings
-//   ""                                 any value of the type (booleans, and the `requirement` text,
-//                                      which its parser checks; a test checks)
-// core/options.hpp checks values against it; `hyfal list` prints it.
-struct OptionSpec {
-  std::string key;
-  Json default_value;
-  std::string help;
-  std::string range = {};
-  // A suite parameter or method option added after results were stored: at this value (the
-  // behaviour before it existed) it is left out of the instance key, or of the options in the
-  // trial's config (canonical_instance), so stored keys, and the trial seeds drawn from them, keep
-  // meaning what they meant. Unset: always keyed.
-  std::optional<Json> unkeyed_value = std::nullopt;
-};
-
-struct MethodEntry {
-  std::string name;
-  std::string description;
-  std::vector<OptionSpec> options;
-  std::function<std::unique_ptr<Planner>(const Json& options)> make;
-  // What the method needs of a system beyond the common interface (e.g. HyDICE a region
-  // decomposition): throws std::invalid_argument naming what is missing. Empty: any system.
-  // Checked when a run is resolved, before anything is written.
-  std::function<void(const System& system, const Json& options)> check_system = {};
-  // The method searches over whole input signals, each simulated from the start
-  // (core/signal_search.hpp): the only kind that can drive a model known only by its simulations
-  // (System::signal_model, core/black_box.hpp).
-  bool searches_signals = false;
-  // The method searches the system's time-invariant parameters P (SystemInfo::parameter_box)
-  // when P has width (RRFT's seeds; the signal searches' decision vectors); the others run at the
-  // instance's p. A system with no inputs is searched only over P, so only such a method runs on it.
-  bool searches_parameters = false;
-};
-
-// Throws std::invalid_argument (one line) when `method` cannot drive `system`: a tree method on a
-// model known only by its simulations (core/black_box.hpp), or a method that searches input
-// signals only on a system whose only freedom is its parameters P. Checked with the method's own
-// check_system before a run is written (app/runner.cpp, the Python module).
-void check_method_for_system(const MethodEntry& method, const System& system);
-
-// The method registry (core/planners/registry.cpp): one line per method.
-const std::vector<MethodEntry>& all_methods();
-const MethodEntry* find_method(std::string_view name);
 
 }  // namespace hyfal

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/model.hpp"
-#include "core/planner.hpp"
+#include "core/model/system.hpp"
+#include "core/run/option_spec.hpp"
 
 namespace hyfal {
 

@@ -17,19 +17,25 @@ enum class TrialStatus { falsified, not_found, timeout, node_cap, budget, error 
 
 constexpr std::string_view to_string(TrialStatus s) {
   switch (s) {
-    case TrialStatus::falsified: return "falsified";
-    case TrialStatus::not_found: return "not_found";
-    case TrialStatus::timeout: return "timeout";
-    case TrialStatus::node_cap: return "node_cap";
-    case TrialStatus::budget: return "budget";
-    case TrialStatus::error: return "error";
+    case TrialStatus::falsified:
+      return "falsified";
+    case TrialStatus::not_found:
+      return "not_found";
+    case TrialStatus::timeout:
+      return "timeout";
+    case TrialStatus::node_cap:
+      return "node_cap";
+    case TrialStatus::budget:
+      return "budget";
+    case TrialStatus::error:
+      return "error";
   }
   return "error";
 }
 
 inline std::optional<TrialStatus> parse_trial_status(std::string_view s) {
-  for (auto st : {TrialStatus::falsified, TrialStatus::not_found, TrialStatus::timeout,
-                  TrialStatus::node_cap, TrialStatus::budget, TrialStatus::error})
+  for (auto st : {TrialStatus::falsified, TrialStatus::not_found, TrialStatus::timeout, TrialStatus::node_cap,
+                  TrialStatus::budget, TrialStatus::error})
     if (to_string(st) == s) return st;
   return std::nullopt;
 }
@@ -61,7 +67,7 @@ struct TrialRecord {
   int threads = 1;      // size of the thread pool the trial ran in
   std::string host;
   std::string git_commit;
-  std::string started_at;   // ISO 8601 UTC, e.g. 2026-11-22T03:14:15.123Z
+  std::string started_at;  // ISO 8601 UTC, e.g. 2026-11-22T03:14:15.123Z
   std::string finished_at;
   std::string metrics = "{}";  // JSON object of method-specific scalars (coverage, beta, ...)
   // With an STL requirement metrics also holds "robustness" (a falsified trial's: its witness's, as

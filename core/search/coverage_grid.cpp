@@ -1,4 +1,4 @@
-#include "core/coverage.hpp"
+#include "core/search/coverage_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -73,9 +73,7 @@ void CoverageGrid::add(std::span<const double> x) {
   history_.push_back(coverage());
 }
 
-double CoverageGrid::coverage() const {
-  return 1.0 - sum_ / (static_cast<double>(distance_.size()) * spacing_);
-}
+double CoverageGrid::coverage() const { return 1.0 - sum_ / (static_cast<double>(distance_.size()) * spacing_); }
 
 double CoverageGrid::growth(std::size_t window) const {
   if (history_.empty() || window == 0) return 0.0;

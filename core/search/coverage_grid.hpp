@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 
 namespace hyfal {
 
@@ -22,8 +22,8 @@ class CoverageGrid {
   // Throws std::invalid_argument when the grid is empty or larger than max_points.
   explicit CoverageGrid(const CoverageSpec& spec, std::size_t state_dim, std::size_t max_points = 50'000'000);
 
-  void add(std::span<const double> x);  // a new tree node (full state)
-  double coverage() const;              // c(T, G) of (II.1)
+  void add(std::span<const double> x);                   // a new tree node (full state)
+  double coverage() const;                               // c(T, G) of (II.1)
   double uncovered() const { return 1.0 - coverage(); }  // D(T) of seed 003 eq. (3)
   double growth(std::size_t window) const;
   std::size_t points() const { return distance_.size(); }
@@ -39,8 +39,8 @@ class CoverageGrid {
   std::vector<std::int64_t> count_, stride_;
   double spacing_;
   std::vector<float> distance_;  // min(ρ(x_g, T), δ) per grid point
-  double sum_;                    // Σ distance_
-  std::vector<double> history_;   // c after each node
+  double sum_;                   // Σ distance_
+  std::vector<double> history_;  // c after each node
   std::vector<std::int64_t> lo_idx_, hi_idx_, idx_;
 };
 

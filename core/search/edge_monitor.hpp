@@ -14,11 +14,11 @@
 #include <span>
 #include <vector>
 
-#include "core/held_input.hpp"
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 #include "core/requirements/prefix_monitor.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/tree.hpp"
+#include "core/search/node_store.hpp"
+#include "core/simulate/held_input.hpp"
 
 namespace hyfal::stl {
 
@@ -26,13 +26,16 @@ class EdgeMonitor {
  public:
   // `system` must have a requirement (info().requirement).
   explicit EdgeMonitor(const System& system)
-      : requirement_(*system.info().requirement), sampler_(system, requirement_), monitor_(requirement_.formula),
+      : requirement_(*system.info().requirement),
+        sampler_(system, requirement_),
+        monitor_(requirement_.formula),
         held_(system.info().held_inputs) {
     monitor_.initial_state(empty_);
   }
 
   // Call before propagating input u from `from` with `prop`: its samples go to this candidate.
-  void begin(const NodeStore& tree, NodeId from, std::span<const double> u, std::span<const double> p, Propagator& prop) {
+  void begin(const NodeStore& tree, NodeId from, std::span<const double> u, std::span<const double> p,
+             Propagator& prop) {
     const auto parent = state_of(tree, from);
     rows_.clear();
     evaluated_ = false;
@@ -49,7 +52,7 @@ class EdgeMonitor {
   // The candidate edge from node `from` (mode q, state x) under u for `duration`, sampled:
   // begin(), the propagation into `out`, end(). Over a system whose inputs are a held signal
   // (SystemInfo::held_inputs) the edge is one input piece held through the transitions on the
-  // way (core/held_input.hpp), as an optimiser's simulation holds it; otherwise it is one
+  // way (core/simulate/held_input.hpp), as an optimiser's simulation holds it; otherwise it is one
   // propagation, which ends at the first transition.
   PropagationResult propagate(const NodeStore& tree, NodeId from, Mode q, std::span<const double> x,
                               std::span<const double> u, std::span<const double> p, double duration, Propagator& prop,

@@ -17,9 +17,9 @@
 #include <span>
 #include <vector>
 
-#include "core/input_levels.hpp"
-#include "core/model.hpp"
-#include "core/rng.hpp"
+#include "core/model/system.hpp"
+#include "core/search/input_levels.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal {
 
@@ -33,8 +33,7 @@ inline void draw_uniform_input(Urbg& rng, std::span<const double> lo, std::span<
 
 class InputGrid {
  public:
-  explicit InputGrid(const System& system)
-      : system_(system), dependent_(system.state_dependent_inputs()) {}
+  explicit InputGrid(const System& system) : system_(system), dependent_(system.state_dependent_inputs()) {}
 
   // Selects Ū at (q, x); the spans from input() stay valid until the next call.
   void at(Mode q, std::span<const double> x) {
@@ -73,7 +72,7 @@ class InputGrid {
     drawn_ = k;
   }
   // Input refinement (the trees' option input_refinement): instead of Ū, `values` inputs of the
-  // dyadic refinement sequence (core/input_levels.hpp: the corners, then the midpoints, then the
+  // dyadic refinement sequence (core/search/input_levels.hpp: the corners, then the midpoints, then the
   // quarter points, ...) mapped onto the admissible box at (q, x), its `chunk`-th run of `values`
   // (wrapping around at the sequence's end), after `held` (the input the node was reached with;
   // left out when empty or not admissible at x), so that a refined value can be held on.
@@ -97,7 +96,9 @@ class InputGrid {
     for (std::size_t k = 0; k < values; ++k) {
       const double* f = sequence_.data() + ((chunk * values + k) % total) * m;
       for (std::size_t i = 0; i < m; ++i)
-        mapped_.push_back(f[i] >= 1.0 ? hi_[i] : f[i] <= 0.0 ? lo_[i] : std::min(hi_[i], lo_[i] + f[i] * (hi_[i] - lo_[i])));
+        mapped_.push_back(f[i] >= 1.0   ? hi_[i]
+                          : f[i] <= 0.0 ? lo_[i]
+                                        : std::min(hi_[i], lo_[i] + f[i] * (hi_[i] - lo_[i])));
     }
     drawn_ = mapped_.size() / m;
   }

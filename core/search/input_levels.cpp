@@ -1,4 +1,4 @@
-#include "core/input_levels.hpp"
+#include "core/search/input_levels.hpp"
 
 #include <cmath>
 

@@ -15,7 +15,7 @@ namespace hyfal {
 std::vector<double> dyadic_level_fractions(std::size_t inputs, int level);
 
 // Levels 0, 1, 2, ... concatenated until they hold at least `at_least` combinations: the order in
-// which a tree node offers its refined inputs (core/inputs.hpp, InputGrid::refine).
+// which a tree node offers its refined inputs (core/search/input_grid.hpp, InputGrid::refine).
 std::vector<double> dyadic_refinement_sequence(std::size_t inputs, std::size_t at_least);
 
 }  // namespace hyfal

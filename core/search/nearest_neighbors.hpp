@@ -21,8 +21,8 @@
 #include <nanoflann.hpp>
 #pragma GCC diagnostic pop
 
-#include "core/parallel_slots.hpp"
-#include "core/tree.hpp"
+#include "core/search/node_store.hpp"
+#include "core/search/parallel_slots.hpp"
 
 namespace hyfal {
 
@@ -125,13 +125,13 @@ class NearestNeighbors {
   // Answers queries.size() / dim k-NN queries (rows of `queries`, dim values each) at once, in
   // parallel on the calling thread's oneTBB arena: query i's k neighbours go to
   // out[i*k, (i+1)*k), `found[i]` how many. The same answers as knn() one by one.
-  // `cpu`: the trial's clock, so that cpu_s counts the helping threads (core/trial_cpu.hpp).
-  void knn_batch(std::span<const double> queries, std::size_t k, std::span<Neighbor> out,
-                 std::span<std::size_t> found, TrialCpuClock* cpu = nullptr) const {
+  // `cpu`: the trial's clock, so that cpu_s counts the helping threads (core/util/trial_cpu_clock.hpp).
+  void knn_batch(std::span<const double> queries, std::size_t k, std::span<Neighbor> out, std::span<std::size_t> found,
+                 TrialCpuClock* cpu = nullptr) const {
     const std::size_t dim = metric_.dim();
-    parallel_slots(found.size(), cpu, [&](std::size_t i) {
-      found[i] = knn(queries.subspan(i * dim, dim), out.subspan(i * k, k));
-    }, /*grain=*/8);
+    parallel_slots(
+        found.size(), cpu, [&](std::size_t i) { found[i] = knn(queries.subspan(i * dim, dim), out.subspan(i * k, k)); },
+        /*grain=*/8);
   }
 
  private:
@@ -158,7 +158,9 @@ class NearestNeighbors {
     std::size_t kdtree_get_point_count() const { return count; }
     double kdtree_get_pt(std::size_t i, std::size_t d) const { return row(i)[d]; }
     template <class BBox>
-    bool kdtree_get_bbox(BBox&) const { return false; }
+    bool kdtree_get_bbox(BBox&) const {
+      return false;
+    }
   };
 
   struct Index {
@@ -171,8 +173,8 @@ class NearestNeighbors {
   // findNeighbors is const and keeps its scratch on the stack: concurrent queries are safe.
   template <int D>
   struct FixedIndex final : Index {
-    using Tree = nanoflann::KDTreeSingleIndexDynamicAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
-                                                            Points, D, std::uint32_t>;
+    using Tree = nanoflann::KDTreeSingleIndexDynamicAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>, Points, D,
+                                                            std::uint32_t>;
     FixedIndex(std::size_t dim, const Points& points)
         : tree(static_cast<int>(dim), points, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
     void add(NodeId id) override { tree.addPoints(id, id); }
@@ -186,22 +188,31 @@ class NearestNeighbors {
   };
   static std::unique_ptr<Index> make_index(std::size_t dim, const Points& points) {
     switch (dim) {  // the state dimensions of the suites; others use the run-time dimension
-      case 1: return std::make_unique<FixedIndex<1>>(dim, points);
-      case 2: return std::make_unique<FixedIndex<2>>(dim, points);
-      case 3: return std::make_unique<FixedIndex<3>>(dim, points);
-      case 4: return std::make_unique<FixedIndex<4>>(dim, points);
-      case 5: return std::make_unique<FixedIndex<5>>(dim, points);
-      case 6: return std::make_unique<FixedIndex<6>>(dim, points);
-      case 12: return std::make_unique<FixedIndex<12>>(dim, points);
-      case 25: return std::make_unique<FixedIndex<25>>(dim, points);
-      default: return std::make_unique<FixedIndex<-1>>(dim, points);
+      case 1:
+        return std::make_unique<FixedIndex<1>>(dim, points);
+      case 2:
+        return std::make_unique<FixedIndex<2>>(dim, points);
+      case 3:
+        return std::make_unique<FixedIndex<3>>(dim, points);
+      case 4:
+        return std::make_unique<FixedIndex<4>>(dim, points);
+      case 5:
+        return std::make_unique<FixedIndex<5>>(dim, points);
+      case 6:
+        return std::make_unique<FixedIndex<6>>(dim, points);
+      case 12:
+        return std::make_unique<FixedIndex<12>>(dim, points);
+      case 25:
+        return std::make_unique<FixedIndex<25>>(dim, points);
+      default:
+        return std::make_unique<FixedIndex<-1>>(dim, points);
     }
   }
 
   const WeightedEuclidean& metric_;
   Points points_;
   std::unique_ptr<Index> index_;
-  bool sparse_ = false;      // some id was skipped: ids_[position] is the point's node id
+  bool sparse_ = false;  // some id was skipped: ids_[position] is the point's node id
   std::vector<NodeId> ids_;
 };
 

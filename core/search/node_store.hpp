@@ -28,7 +28,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 
 namespace hyfal {
 
@@ -92,7 +92,9 @@ class SegmentedRows {
     const std::size_t seg = static_cast<std::size_t>(std::bit_width(j)) - 1 - kBaseBits;
     return {seg, j - (std::size_t{1} << (seg + kBaseBits))};
   }
-  static constexpr std::size_t capacity() { return (std::size_t{1} << (kSegments + kBaseBits)) - (std::size_t{1} << kBaseBits); }
+  static constexpr std::size_t capacity() {
+    return (std::size_t{1} << (kSegments + kBaseBits)) - (std::size_t{1} << kBaseBits);
+  }
 
  private:
   static std::size_t segment_rows(std::size_t seg) { return std::size_t{1} << (seg + kBaseBits); }
@@ -115,7 +117,7 @@ class AppendCounter {
     ready_.row(i)[0].store(1, std::memory_order_seq_cst);
     std::size_t p = published_.load(std::memory_order_seq_cst);
     while (p < reserved_.load(std::memory_order_seq_cst)) {
-      const std::atomic<std::uint8_t>* flag = ready_.find(p);  // null: its writer has not even begun
+      const std::atomic<std::uint8_t>* flag = ready_.find(p);                     // null: its writer has not even begun
       if (flag == nullptr || flag->load(std::memory_order_seq_cst) == 0) return;  // its writer advances past it
       if (published_.compare_exchange_weak(p, p + 1, std::memory_order_seq_cst)) ++p;
       // on failure p holds the newer published size: continue from there

@@ -20,8 +20,8 @@
 #include <exception>
 #include <memory>
 #include <stdexcept>
-#include <utility>
 #include <thread>
+#include <utility>
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 #endif
@@ -30,9 +30,8 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/planner.hpp"
-#include "core/rng.hpp"
-#include "core/trial_cpu.hpp"
+#include "core/util/rng.hpp"
+#include "core/util/trial_cpu_clock.hpp"
 
 namespace hyfal {
 
@@ -41,14 +40,6 @@ constexpr std::uint64_t slot_seed(std::uint64_t trial_seed, std::uint64_t round,
   std::uint64_t h = splitmix64(trial_seed ^ 0x736c6f7473656564ULL);  // "slotseed"
   h = splitmix64(h ^ round);
   return splitmix64(h ^ (slot * 0x9e3779b97f4a7c15ULL));
-}
-
-// The method option every planner declares.
-inline OptionSpec batch_option() {
-  return {"batch", 1,
-          "B: expansion slots per round, selected against the frozen search, propagated in parallel, committed in slot "
-          "order (results depend on B, never on --threads; 1 = the sequential algorithm)",
-          "[1, 4096]"};
 }
 
 // Runs body(i) for every i in [0, count) on the calling thread's arena, in parallel where threads

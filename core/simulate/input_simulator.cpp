@@ -1,4 +1,4 @@
-#include "core/requirements/simulate.hpp"
+#include "core/simulate/input_simulator.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,8 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "core/held_input.hpp"
-#include "core/requirements/robustness.hpp"
+#include "core/simulate/held_input.hpp"
 
 namespace hyfal::stl {
 
@@ -45,33 +44,6 @@ class AllSignals final : public SampleSink {
 };
 
 }  // namespace
-
-Trajectory trajectory_of_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
-  const SystemInfo& info = system.info();
-  Trajectory t;
-  t.parameters.assign(p.begin(), p.end());
-  t.initial_mode = info.initial_mode;
-  t.initial_x = info.initial_state;
-  if (system.signal_model()) {  // no states: the pieces are the input signal itself
-    for (const InputPiece& piece : pieces) t.pieces.push_back({info.initial_mode, piece.u, piece.duration, {}, {}, -1});
-    t.final_mode = info.initial_mode;
-    t.final_spec = system.spec(info.initial_mode, t.final_x, p);
-    return t;
-  }
-  NoSamples none;
-  const auto prop = system.make_propagator();
-  prop->set_trace(&none);
-  Mode q = info.initial_mode;
-  std::vector<double> x = info.initial_state, next(x.size());
-  for (const InputPiece& piece : pieces) {
-    const HeldInputEnd e = append_held_input(t, *prop, q, x, next, piece.u, p, piece.duration);
-    if (e.result.end == PropagationEnd::invariant || e.result.end == PropagationEnd::rejected) break;
-  }
-  t.final_mode = q;
-  t.final_x = x;
-  t.final_spec = system.spec(q, x, p);
-  return t;
-}
 
 struct InputSimulator::Impl {
   explicit Impl(const System& s) : system(s), model(s.signal_model()) {
@@ -121,9 +93,10 @@ const SimulatedTrace& InputSimulator::Impl::run_model(std::span<const InputPiece
   for (const InputPiece& piece : pieces) length += piece.duration;
   const double last = trace.time.empty() ? 0.0 : trace.time.back();
   if (last < length - 1e-9 * std::max(1.0, length))
-    throw std::runtime_error(fmt::format("the model's trace ends at t = {:.6g} s, before the horizon {:.6g} s (its input "
-                                         "signal's end): simulate must return samples up to the last input time",
-                                         last, length));
+    throw std::runtime_error(
+        fmt::format("the model's trace ends at t = {:.6g} s, before the horizon {:.6g} s (its input "
+                    "signal's end): simulate must return samples up to the last input time",
+                    last, length));
   const std::size_t n = trace.time.size(), m = info.input_names.size();
   for (std::size_t k = 0; k < outputs.size(); ++k) trace.signals[k] = outputs[k];
   const double safety = system.spec(info.initial_mode, x, p);
@@ -134,7 +107,8 @@ const SimulatedTrace& InputSimulator::Impl::run_model(std::span<const InputPiece
       trace.piece_ends.push_back(i);
       end += pieces[++piece].duration;
     }
-    for (std::size_t j = 0; j < m; ++j) trace.signals[outputs.size() + j].push_back(pieces.empty() ? 0.0 : pieces[piece].u[j]);
+    for (std::size_t j = 0; j < m; ++j)
+      trace.signals[outputs.size() + j].push_back(pieces.empty() ? 0.0 : pieces[piece].u[j]);
     trace.signals[outputs.size() + m].push_back(safety);
   }
   while (trace.piece_ends.size() < pieces.size()) trace.piece_ends.push_back(n);
@@ -153,8 +127,8 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
       throw std::invalid_argument(fmt::format("input piece {}: {} values, the system has {} inputs", i,
                                               pieces[i].u.size(), info.input_names.size()));
     if (!(pieces[i].duration >= 0.0 && std::isfinite(pieces[i].duration)))
-      throw std::invalid_argument(fmt::format("input piece {}: duration {} is not a finite number >= 0", i,
-                                              pieces[i].duration));
+      throw std::invalid_argument(
+          fmt::format("input piece {}: duration {} is not a finite number >= 0", i, pieces[i].duration));
   }
   SimulatedTrace& trace = impl_->trace;
   trace.time.clear();
@@ -182,8 +156,8 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
         prop, q, x, next, piece.u, p, t, piece.duration,
         [&](double now, Mode at) {
           if (!system.inputs(at).box.contains(piece.u)) {
-            trace.problem = fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", now,
-                                        system.mode_name(at));
+            trace.problem =
+                fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", now, system.mode_name(at));
             return false;
           }
           sink.begin(now, piece.u);
@@ -205,108 +179,9 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   return trace;
 }
 
-std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
-                                             double step) {
-  if (times.size() != values.size()) throw std::invalid_argument("linear_signal_pieces: one value per control point");
-  if (!(step > 0.0)) throw std::invalid_argument("linear_signal_pieces: the step must be > 0");
-  std::vector<InputPiece> pieces;
-  for (std::size_t k = 0; k + 1 < times.size(); ++k) {
-    const double length = times[k + 1] - times[k];
-    if (!(length > 0.0)) throw std::invalid_argument("linear_signal_pieces: times must increase");
-    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(length / step - 1e-9)));
-    const double h = length / static_cast<double>(n);
-    for (std::size_t j = 0; j < n; ++j) {
-      const double w = (static_cast<double>(j) + 0.5) / static_cast<double>(n);  // the midpoint's weight on the end
-      InputPiece p{h, std::vector<double>(values[k].size())};
-      for (std::size_t i = 0; i < p.u.size(); ++i) p.u[i] = linear_value(values[k][i], values[k + 1][i], w);
-      pieces.push_back(std::move(p));
-    }
-  }
-  return pieces;
-}
-
-std::optional<SampledSignalProblem> sampled_signal_problem(std::span<const double> times,
-                                                          std::span<const std::vector<double>> values, const Box& box) {
-  using Kind = SampledSignalProblem::Kind;
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    if (k == 0 && times[0] != 0.0) return SampledSignalProblem{Kind::first_time, 0, 0, times[0]};
-    if (k > 0 && !(times[k] > times[k - 1])) return SampledSignalProblem{Kind::not_increasing, k, 0, times[k]};
-    for (std::size_t i = 0; i < box.dim() && i < values[k].size(); ++i)
-      if (values[k][i] < box.lo[i] - 1e-9 || values[k][i] > box.hi[i] + 1e-9)
-        return SampledSignalProblem{Kind::outside, k, i, values[k][i]};
-  }
-  if (times.size() < 2) return SampledSignalProblem{Kind::too_few, times.size(), 0, 0.0};
-  return std::nullopt;
-}
-
-std::vector<InputPiece> sampled_signal_pieces(std::span<const double> times, std::vector<std::vector<double>> values,
-                                              const Box& box, double linear_step) {
-  for (auto& u : values)
-    for (std::size_t i = 0; i < box.dim() && i < u.size(); ++i) u[i] = std::clamp(u[i], box.lo[i], box.hi[i]);
-  if (linear_step > 0.0) return linear_signal_pieces(times, values, linear_step);
-  std::vector<InputPiece> pieces;
-  for (std::size_t k = 0; k + 1 < times.size(); ++k) pieces.push_back({times[k + 1] - times[k], std::move(values[k])});
-  return pieces;
-}
-
-double linear_piece_step(const SystemInfo& info) { return std::min(info.integrator.max_step, info.integrator.step); }
-
-std::size_t input_named(const SystemInfo& info, std::string_view name) {
-  const auto same = [&](std::string_view a) {
-    return a.size() == name.size() && std::equal(a.begin(), a.end(), name.begin(), [](char x, char y) {
-             return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
-           });
-  };
-  for (std::size_t i = 0; i < info.input_names.size(); ++i) {
-    if (same(info.input_names[i])) return i;
-    if (i < info.input_aliases.size())
-      for (const auto& alias : info.input_aliases[i])
-        if (same(alias)) return i;
-  }
-  return info.input_names.size();
-}
-
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {
   InputSimulator simulator(system);
   return simulator.run(pieces, p);
-}
-
-TraceMonitor::TraceMonitor(const Requirement& requirement) : requirement_(requirement), monitor_(requirement.formula) {}
-
-TraceView TraceMonitor::view(const SimulatedTrace& trace, std::size_t samples) {
-  const std::size_t n = std::min(samples, trace.time.size());
-  values_.clear();
-  for (int s : requirement_.sources) values_.insert(values_.end(), trace.signals[s].begin(), trace.signals[s].begin() + n);
-  return TraceView{std::span<const double>(trace.time).first(n), values_};
-}
-
-double TraceMonitor::robustness(const SimulatedTrace& trace) { return monitor_.robustness(view(trace)); }
-
-TraceVerdict judge_prefix(OfflineMonitor& monitor, const TraceView& trace) {
-  TraceVerdict v;
-  v.horizon = monitor.formula().horizon();
-  const double end = trace.time.empty() ? 0.0 : trace.time.back();
-  // The pieces' durations are summed: a trace meant to end at the horizon may fall short of it
-  // by rounding.
-  v.complete = !std::isfinite(v.horizon) || end >= v.horizon - 1e-9 * std::max(1.0, v.horizon);
-  if (v.complete) {
-    const double rho = monitor.robustness(trace);
-    v.bounds = {rho, rho};
-  } else {
-    v.bounds = monitor.robustness_interval(trace, false);
-  }
-  return v;
-}
-
-TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) { return judge_prefix(monitor_, view(trace)); }
-
-Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t samples, bool closed_at_last_time) {
-  return monitor_.robustness_interval(view(trace, samples), false, closed_at_last_time);
-}
-
-double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {
-  TraceMonitor monitor(requirement);
-  return monitor.robustness(trace);
 }
 
 }  // namespace hyfal::stl

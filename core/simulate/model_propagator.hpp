@@ -1,13 +1,13 @@
-// Simulation of one hybrid model: fixed-step RK4 (core/rk4.hpp: odeint's runge_kutta4, step for
+// Simulation of one hybrid model: fixed-step RK4 (core/simulate/rk4.hpp: odeint's runge_kutta4, step for
 // step and bit for bit), the Rosenbrock-W method ROS34PW2 with step-size control for stiff flows
-// (core/rosenbrock.hpp, rosenbrock_step_to), or Boost.Odeint's adaptive Dormand-Prince 5 with
+// (core/simulate/rosenbrock.hpp, rosenbrock_step_to), or Boost.Odeint's adaptive Dormand-Prince 5 with
 // dense output; event detection by sign change of a guard within a step and localization with
 // Boost.Math toms748 (seed 002 Alg. 3); for RK4 and ROS34PW2 optionally on the step's Hermite
 // interpolant with a regula falsi, or Newton's method where the guards are affine
 // (StepInterpolation::hermite, model.hpp).
 //
 // The model is a template parameter, so every RK stage calls M::flow directly. All buffers
-// are members sized once; a propagation allocates nothing (tests/test_simulation.cpp checks).
+// are members sized once; a propagation allocates nothing (tests/core/simulate/test_simulation.cpp checks).
 #pragma once
 #include <algorithm>
 #include <array>
@@ -22,10 +22,10 @@
 #include <boost/math/tools/toms748_solve.hpp>
 #include <boost/numeric/odeint.hpp>
 
-#include "core/model.hpp"
-#include "core/rk4.hpp"
-#include "core/rosenbrock.hpp"
-#include "core/root_bracket.hpp"
+#include "core/model/system.hpp"
+#include "core/simulate/rk4.hpp"
+#include "core/simulate/root_bracket.hpp"
+#include "core/simulate/rosenbrock.hpp"
 
 namespace hyfal {
 
@@ -60,13 +60,15 @@ class ModelPropagator final : public Propagator {
   ModelPropagator(const M& model, IntegratorSettings settings)
       : model_(model),
         settings_(settings),
-        dense_(odeint::make_dense_output(settings.abs_tol, settings.rel_tol, settings.max_step,
-                                         Dopri5())),
+        dense_(odeint::make_dense_output(settings.abs_tol, settings.rel_tol, settings.max_step, Dopri5())),
         dim_(static_cast<std::size_t>(model.dim())),
         rk4_(dim_),
         ros_(settings.kind == IntegratorKind::rosenbrock ? dim_ : 0,
              settings.kind == IntegratorKind::rosenbrock ? flowing_dim(model) : 0, flow_unread()),
-        x0_(dim_), x1_(dim_), xt_(dim_), frozen_from_(flowing_dim(model)) {
+        x0_(dim_),
+        x1_(dim_),
+        xt_(dim_),
+        frozen_from_(flowing_dim(model)) {
     if (hermite()) {
       for (State* c : {&c1_, &c2_, &c3_, &xh_, &zero_}) c->resize(dim_);
     }
@@ -80,9 +82,8 @@ class ModelPropagator final : public Propagator {
     }
   }
 
-  PropagationResult propagate(Mode q, std::span<const double> x, std::span<const double> u,
-                              std::span<const double> p, double duration,
-                              std::span<double> out) override {
+  PropagationResult propagate(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                              double duration, std::span<double> out) override {
     PropagationResult r;
     r.mode = q;
     if (interrupted()) {  // the trial is over: no work, nothing to add
@@ -165,8 +166,9 @@ class ModelPropagator final : public Propagator {
       }
       if (entered) {
         event = kSpecEvent;
-        event_t = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); },
-                         -s0, -s1).second;
+        event_t = locate(
+                      field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); }, -s0, -s1)
+                      .second;
       }
       earliest_guard(field, q, nk, t, t1, u.data(), pp, event, event_t);
       if (event != kNoEvent) {
@@ -200,8 +202,8 @@ class ModelPropagator final : public Propagator {
     return r;
   }
 
-  std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u,
-                    std::span<const double> p, double duration, std::span<double> out) override {
+  std::int64_t flow(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                    double duration, std::span<double> out) override {
     std::copy(x.begin(), x.end(), x0_.begin());
     ++step_;  // no localization here, but x0_ is no longer the step the located states came from
     const FlowField field{&model_, q, u.data(), p.data()};
@@ -242,9 +244,9 @@ class ModelPropagator final : public Propagator {
   // crossed between two step ends is not missed.
   static constexpr bool kGuardPeaks =
       requires(const M m, Mode q, int k, const double* x, const double* u, const double* p) {
-        { m.guard_peak(q, k, x, u, p) } -> std::convertible_to<double>;
-        { m.guard_step_change(q, k) } -> std::convertible_to<double>;
-      };
+    { m.guard_peak(q, k, x, u, p) } -> std::convertible_to<double>;
+    { m.guard_step_change(q, k) } -> std::convertible_to<double>;
+  };
   // M::guards_affine: an optional `static constexpr bool`, true when every guard is affine in the
   // state (model.hpp).
   static constexpr bool kAffineGuards = requires { requires M::guards_affine; };
@@ -353,8 +355,7 @@ class ModelPropagator final : public Propagator {
     const double tol = settings_.event_time_tol;
     auto close_enough = [tol](double a, double b) { return std::abs(b - a) <= tol; };
     std::uintmax_t max_iter = 200;
-    const auto bracket =
-        boost::math::tools::toms748_solve(f, t, t1, phi0, phi1, close_enough, max_iter);
+    const auto bracket = boost::math::tools::toms748_solve(f, t, t1, phi0, phi1, close_enough, max_iter);
     return bracket;
   }
 
@@ -410,7 +411,7 @@ class ModelPropagator final : public Propagator {
     hermite_inv_h_ = 1.0 / step_h_;
     for (double& tau : located_tau_) tau = std::numeric_limits<double>::quiet_NaN();
     std::copy(start_slope(), start_slope() + n, c1_.begin());  // f0 (step_to's first stage)
-    field(x1_.data(), c2_.data());                                       // f1
+    field(x1_.data(), c2_.data());                             // f1
     const double h = hermite_h_;
     for (std::size_t i = 0; i < n; ++i) {
       const double f0 = c1_[i], f1 = c2_[i], d = x1_[i] - x0_[i];
@@ -456,25 +457,28 @@ class ModelPropagator final : public Propagator {
   // between: the guard may have turned > 0 and back inside the step (a band crossed, a disc
   // grazed). Locates the peak, and when the guard is > 0 there, the earliest time before it
   // where it turns > 0: the event time. +inf when the guard stayed off.
-  double crossed_inside_step(const FlowField& field, Mode q, int k, double t, double t1,
-                             const double* u, const double* pp) {
+  double crossed_inside_step(const FlowField& field, Mode q, int k, double t, double t1, const double* u,
+                             const double* pp) {
     const double h0 = h0_[k], h1 = h1_[k];
     const double sign = h0 < 0.0 ? 1.0 : -1.0;  // phi = sign * h rises through 0 at the peak
     const double tm =
-        locate(field, t, t1, [&](const State& xs) { return sign * model_.guard_peak(q, k, xs.data(), u, pp); },
-               sign * h0, sign * h1).second;
+        locate(
+            field, t, t1, [&](const State& xs) { return sign * model_.guard_peak(q, k, xs.data(), u, pp); }, sign * h0,
+            sign * h1)
+            .second;
     state_at(field, t, tm, xt_);
     const double gm = guard_of(q, k, xt_.data(), u, pp);
     if (!(gm > 0.0)) return std::numeric_limits<double>::infinity();
-    return locate(field, t, tm, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); },
-                  g0_[k], gm).first;
+    return locate(
+               field, t, tm, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], gm)
+        .first;
   }
 
   // The guards over the step [t, t1] (x0_ to x1_): g1_ (and h1_) at its end, and the earliest
   // transition inside it, when earlier than event_t (strict: an event already found, e.g. the
   // unsafe set's, and then lower k win ties), into event and event_t.
-  void earliest_guard(const FlowField& field, Mode q, int nk, double t, double t1, const double* u,
-                      const double* pp, int& event, double& event_t) {
+  void earliest_guard(const FlowField& field, Mode q, int nk, double t, double t1, const double* u, const double* pp,
+                      int& event, double& event_t) {
     if (hermite()) [[unlikely]] {
       earliest_guard_on_interpolant(field, q, nk, t, t1, u, pp, event, event_t);
       return;
@@ -483,7 +487,8 @@ class ModelPropagator final : public Propagator {
       g1_[k] = guard_of(q, k, x1_.data(), u, pp);
       double tk = std::numeric_limits<double>::infinity();
       if (g0_[k] <= 0.0 && g1_[k] > 0.0) {
-        tk = locate(field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g1_[k])
+        tk = locate(
+                 field, t, t1, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g1_[k])
                  .first;
       } else if constexpr (kGuardPeaks) {
         h1_[k] = peak_at(q, k, g1_[k], x1_.data(), u, pp);
@@ -503,8 +508,8 @@ class ModelPropagator final : public Propagator {
   // only later (for a guard that changes sign once in the step) and cannot win, and one > 0
   // there crossed before it: it is located on [t, event_t]. Equal times: the lower k.
   __attribute__((noinline)) void earliest_guard_on_interpolant(const FlowField& field, Mode q, int nk, double t,
-                                                               double t1, const double* u, const double* pp,
-                                                               int& event, double& event_t) {
+                                                               double t1, const double* u, const double* pp, int& event,
+                                                               double& event_t) {
     crossing_.clear();
     for (int k = 0; k < nk; ++k) {
       g1_[k] = guard_of(q, k, x1_.data(), u, pp);
@@ -531,7 +536,8 @@ class ModelPropagator final : public Propagator {
       if constexpr (kAffineGuards && StateGuards<M>)
         tk = locate_affine_guard(field, q, k, t, end, pp, g_end);
       else
-        tk = locate(field, t, end, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g_end)
+        tk = locate(
+                 field, t, end, [&](const State& xs) { return guard_of(q, k, xs.data(), u, pp); }, g0_[k], g_end)
                  .first;
       if (tk < event_t || (tk == event_t && event >= 0 && k < event)) event_t = tk, event = k;
     }
@@ -582,7 +588,8 @@ class ModelPropagator final : public Propagator {
         next_h_ = kMinStep;
         break;
       }
-      const double shrink = std::isfinite(err) ? std::max(0.2, 0.9 * std::pow(err, -1.0 / RosenbrockStep::kErrorOrder)) : 0.25;
+      const double shrink =
+          std::isfinite(err) ? std::max(0.2, 0.9 * std::pow(err, -1.0 / RosenbrockStep::kErrorOrder)) : 0.25;
       h = std::max(h * shrink, kMinStep);
       cut = false;
     }
@@ -626,7 +633,9 @@ class ModelPropagator final : public Propagator {
       if (watch_unsafe) {
         s1 = model_.spec(q, x1_.data(), pp);
         if (s0 > 0.0 && s1 <= 0.0)
-          unsafe_t = locate(field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); }, -s0, -s1).second;
+          unsafe_t = locate(
+                         field, t, t1, [&](const State& xs) { return -model_.spec(q, xs.data(), pp); }, -s0, -s1)
+                         .second;
       }
       int event = kNoEvent;
       double event_t = std::numeric_limits<double>::infinity();
@@ -682,14 +691,14 @@ class ModelPropagator final : public Propagator {
   State x0_, x1_, xt_;
   std::size_t frozen_from_;  // M::flowing_dim, or dim_ (frozen_tail_finite)
   std::vector<double> g0_, g1_;
-  std::vector<double> h0_, h1_;  // guard_peak values at the step's ends (kGuardPeaks only)
+  std::vector<double> h0_, h1_;          // guard_peak values at the step's ends (kGuardPeaks only)
   std::array<LocatedState, 8> located_;  // 8: the last localization's evaluations and the one before
   std::size_t next_located_ = 0;
   std::uint64_t step_ = 1;  // entries start at step 0: none valid
   // The Hermite interpolant of the step hermite_step_ (StepInterpolation::hermite only).
   State c1_, c2_, c3_, xh_;
   std::vector<std::pair<double, int>> crossing_;  // earliest_guard_on_interpolant: (θ estimate, k)
-  State zero_;  // the origin of the state space (locate_affine_guard)
+  State zero_;                                    // the origin of the state space (locate_affine_guard)
   std::uint64_t hermite_step_ = 0;
   double hermite_t_ = 0.0, hermite_h_ = 1.0, hermite_inv_h_ = 1.0;
   std::array<double, 8> located_tau_{}, located_theta_{};  // the step's brackets' ends (theta_of)

@@ -7,8 +7,8 @@
 #include <string>
 #include <utility>
 
-#include "core/model.hpp"
-#include "core/simulation.hpp"
+#include "core/model/system.hpp"
+#include "core/simulate/model_propagator.hpp"
 
 namespace hyfal {
 
@@ -34,8 +34,8 @@ class ModelSystem final : public System {
     else
       return std::to_string(q);
   }
-  void derivative(Mode q, std::span<const double> x, std::span<const double> u,
-                  std::span<const double> p, std::span<double> dx) const override {
+  void derivative(Mode q, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+                  std::span<double> dx) const override {
     model_.flow(q, x.data(), u.data(), p.data(), dx.data());
     if constexpr (requires { M::flowing_dim; })  // the flow need not write its frozen tail (model.hpp)
       std::fill(dx.begin() + M::flowing_dim, dx.end(), 0.0);
@@ -52,8 +52,7 @@ class ModelSystem final : public System {
     else
       return false;
   }
-  void input_bounds(Mode q, std::span<const double> x, std::span<double> lo,
-                    std::span<double> hi) const override {
+  void input_bounds(Mode q, std::span<const double> x, std::span<double> lo, std::span<double> hi) const override {
     if constexpr (requires { model_.input_bounds(q, x.data(), lo.data(), hi.data()); })
       model_.input_bounds(q, x.data(), lo.data(), hi.data());
     else
@@ -92,7 +91,9 @@ class ModelSystem final : public System {
   }
   using System::make_propagator;
   const Decomposition* decomposition() const override {
-    if constexpr (requires { { model_.decomposition() } -> std::convertible_to<const Decomposition*>; })
+    if constexpr (requires {
+                    { model_.decomposition() } -> std::convertible_to<const Decomposition*>;
+                  })
       return model_.decomposition();
     else
       return nullptr;

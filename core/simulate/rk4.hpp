@@ -1,7 +1,7 @@
 // One step of the classical fourth-order Runge-Kutta method with exactly the arithmetic of
 // Boost.Odeint's runge_kutta4 (its generic explicit RK over the Butcher tableau: every stage is
 // 1·x + (a_j h) k_1 + ... with the tableau's zero coefficients included, b = 1/6, 1/3, 1/3, 1/6,
-// sums left to right), so a step gives the same bits as odeint's (tests/test_simulation.cpp
+// sums left to right), so a step gives the same bits as odeint's (tests/core/simulate/test_simulation.cpp
 // compares the two on every suite).
 //
 // Why not odeint's own stepper: the model's flow stores each stage's derivative element by
@@ -23,7 +23,8 @@ class Rk4Step {
   // out = the RK4 step of length h from x under flow(x, dx) (autonomous: the models' flows do
   // not read the time). out must not alias x.
   template <class Flow>
-  __attribute__((optimize("no-tree-vectorize"))) void operator()(const Flow& flow, const double* x, double* out, double h) {
+  __attribute__((optimize("no-tree-vectorize"))) void operator()(const Flow& flow, const double* x, double* out,
+                                                                 double h) {
     double* const k1 = k1_.data();
     double* const k2 = k2_.data();
     double* const k3 = k3_.data();
@@ -42,8 +43,7 @@ class Rk4Step {
     flow(tmp, k3);
     for (std::size_t i = 0; i < n; ++i) tmp[i] = kOne * x[i] + a30 * k1[i] + a31 * k2[i] + a32 * k3[i];
     flow(tmp, k4);
-    for (std::size_t i = 0; i < n; ++i)
-      out[i] = kOne * x[i] + b0 * k1[i] + b1 * k2[i] + b2 * k3[i] + b3 * k4[i];
+    for (std::size_t i = 0; i < n; ++i) out[i] = kOne * x[i] + b0 * k1[i] + b1 * k2[i] + b2 * k3[i] + b3 * k4[i];
   }
 
   // The flow at the last step's start (its first stage, k1).

@@ -1,5 +1,5 @@
 // A root of a scalar function bracketed to a given width by regula falsi with the
-// Anderson-Björck modification, for event localization on a cheap interpolant (core/simulation.hpp).
+// Anderson-Björck modification, for event localization on a cheap interpolant (core/simulate/model_propagator.hpp).
 //
 // Why not Boost.Math's toms748 (used on RK4 re-steps): on a step's cubic interpolant one
 // evaluation costs a few nanoseconds, and toms748's own arithmetic (its quadratic and cubic
@@ -32,7 +32,7 @@ std::pair<double, double> bracket_root(F&& f, double a, double b, double fa, dou
   // division's latency per point: the loop is one chain of dependent operations).
   const double half = 0.5 * tol;
   double c = b - fb * (b - a) / (fb - fa);  // plain regula falsi first
-  int kept = 0;                              // +1: b was replaced last, -1: a was
+  int kept = 0;                             // +1: b was replaced last, -1: a was
   for (int i = 0; i < max_evaluations && b - a > tol; ++i) {
     if (!(c >= a + half)) c = c < a + half ? a + half : 0.5 * (a + b);  // NaN: the midpoint
     if (c > b - half) c = b - half;

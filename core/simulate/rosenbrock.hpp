@@ -15,8 +15,8 @@
 // formed by forward differences (step √ε max(|x_j|, 1)) and W factored once per step (LU with
 // partial pivoting): 4 + n flow evaluations and one n×n factorization a step (a retried step
 // reuses both). A W-method keeps its order with an approximate J, not its error constants: on AFC
-// a J of the stiff column alone was 15 % faster and 3.4e-5 off in mu where the full one is 1.2e-5. Third order is checked by tests/test_simulation.cpp (the error of a
-// nonlinear flow falls 8-fold when h halves).
+// a J of the stiff column alone was 15 % faster and 3.4e-5 off in mu where the full one is 1.2e-5. Third order is
+// checked by tests/core/simulate/test_simulation.cpp (the error of a nonlinear flow falls 8-fold when h halves).
 //
 // The embedded solution x̂ = x + Σ b̂_i k_i (Rang & Angermann's b̂, order 2) gives the local error
 // estimate e = Σ (b_i − b̂_i) k_i of the step just taken.
@@ -49,9 +49,20 @@ class RosenbrockStep {
  public:
   // `unread`: components (< flowing) the flow never reads (M::flow_unread).
   RosenbrockStep(std::size_t dim, std::size_t flowing, std::span<const int> unread = {})
-      : n_(dim), m_(flowing), f0_(dim), f_(dim), y_(dim), v_(flowing), jac_(flowing * flowing), lu_(flowing * flowing),
-        pivot_(flowing), inverse_diagonal_(flowing), differenced_(flowing, 1), jac_rows_(flowing + 1),
-        lower_rows_(flowing + 1), upper_rows_(flowing + 1) {
+      : n_(dim),
+        m_(flowing),
+        f0_(dim),
+        f_(dim),
+        y_(dim),
+        v_(flowing),
+        jac_(flowing * flowing),
+        lu_(flowing * flowing),
+        pivot_(flowing),
+        inverse_diagonal_(flowing),
+        differenced_(flowing, 1),
+        jac_rows_(flowing + 1),
+        lower_rows_(flowing + 1),
+        upper_rows_(flowing + 1) {
     for (auto& k : k_) k.resize(flowing);
     for (int j : unread)
       if (j >= 0 && static_cast<std::size_t>(j) < flowing) differenced_[static_cast<std::size_t>(j)] = 0;
@@ -97,7 +108,8 @@ class RosenbrockStep {
         }
         for (std::size_t i = 0; i < m; ++i) {
           double jv = 0.0;
-          for (std::size_t e = jac_rows_[i]; e < jac_rows_[i + 1]; ++e) jv += jac_[i * m + jac_cols_[e]] * v_[jac_cols_[e]];
+          for (std::size_t e = jac_rows_[i]; e < jac_rows_[i + 1]; ++e)
+            jv += jac_[i * m + jac_cols_[e]] * v_[jac_cols_[e]];
           k[i] = h * (f_[i] + jv);
         }
       }
@@ -142,10 +154,11 @@ class RosenbrockStep {
                                                   {8.7173304301691801e-1, 0, 0, 0},
                                                   {8.4457060015369423e-1, -1.1299064236484185e-1, 0, 0},
                                                   {0, 0, 1, 0}};
-  static constexpr double kG[kStages][kStages] = {{0, 0, 0, 0},
-                                                  {-8.7173304301691801e-1, 0, 0, 0},
-                                                  {-9.0338057013044082e-1, 5.4180672388095326e-2, 0, 0},
-                                                  {2.4212380706095346e-1, -1.2232505839045147, 5.4526025533510214e-1, 0}};
+  static constexpr double kG[kStages][kStages] = {
+      {0, 0, 0, 0},
+      {-8.7173304301691801e-1, 0, 0, 0},
+      {-9.0338057013044082e-1, 5.4180672388095326e-2, 0, 0},
+      {2.4212380706095346e-1, -1.2232505839045147, 5.4526025533510214e-1, 0}};
   static constexpr double kB[kStages] = {2.4212380706095346e-1, -1.2232505839045147, 1.5452602553351020,
                                          4.3586652150845900e-1};
   static constexpr double kBHat[kStages] = {3.7810903145819369e-1, -9.6042292212423178e-2, 5.0e-1,
@@ -227,7 +240,7 @@ class RosenbrockStep {
   // can see, so a sum through b[i] would be stored and reloaded at every term), the diagonal's
   // inverse multiplied, and the loops scalar: vectorized, each row read the entries just stored one
   // by one two at a time, and store-to-load forwarding failed on every such read (as in
-  // core/rk4.hpp; perf on BM_SimulateAfc: the substitutions were 60 % of a step).
+  // core/simulate/rk4.hpp; perf on BM_SimulateAfc: the substitutions were 60 % of a step).
   __attribute__((optimize("no-tree-vectorize"))) void solve(double* b) const {
     const std::size_t m = m_;
     const double* lu = lu_.data();

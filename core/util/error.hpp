@@ -9,8 +9,8 @@
 //                 |                   | rerun resumes            |
 //
 // Beneath them (each reaches Python as hyfal.<name>, a subclass of its base's class):
-//   InputError:       OptionError (core/options.hpp), RequirementError (core/requirements),
-//                     WitnessError (core/trajectory.hpp), ExperimentFileError (app), UsageError and
+//   InputError:       OptionError (core/run/option_spec.hpp), RequirementError (core/requirements),
+//                     WitnessError (core/witness/witness.hpp), ExperimentFileError (app), UsageError and
 //                     MethodNotApplicable (app), StoreInputError (results), ClusterSetupError
 //                     (parallel)
 //   EnvironmentError: StoreEnvironmentError (results), ClusterFailure (parallel)

@@ -1,4 +1,4 @@
-#include "core/files.hpp"
+#include "core/util/files.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

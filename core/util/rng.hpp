@@ -27,9 +27,8 @@ constexpr std::uint64_t splitmix64(std::uint64_t z) {
 }
 
 // 63-bit so that it is stored unchanged in SQLite's signed INTEGER.
-constexpr std::int64_t trial_seed(std::uint64_t master, std::string_view suite,
-                                  std::string_view instance, std::string_view method,
-                                  std::int64_t trial_index) {
+constexpr std::int64_t trial_seed(std::uint64_t master, std::string_view suite, std::string_view instance,
+                                  std::string_view method, std::int64_t trial_index) {
   std::uint64_t h = splitmix64(master);
   h = splitmix64(h ^ fnv1a(suite));
   h = splitmix64(h ^ fnv1a(instance));

@@ -1,4 +1,4 @@
-#include "core/trajectory.hpp"
+#include "core/witness/validator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,367 +14,19 @@
 
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/robustness.hpp"
-#include "core/requirements/simulate.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/simulate/input_signal.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/witness/trajectory.hpp"
 
 namespace hyfal {
-
-namespace {
-
-Json vec(const std::vector<double>& v) { return Json(v); }
-
-// j[key], or a WitnessError naming the field when j is not an object or has no such member.
-const Json& member(const Json& j, const char* key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key))
-    throw WitnessError(fmt::format("witness: missing field '{}{}'", where, key));
-  return j.at(key);
-}
-
-WitnessError wrong_type(const char* key, const std::string& where, const char* expected) {
-  return WitnessError(fmt::format("witness: field '{}{}' has the wrong type (expected {})", where, key, expected));
-}
-
-// Reads j[key] as T (strings, lists of strings), with a WitnessError that names the field.
-template <class T>
-T field(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  try {
-    return v.get<T>();
-  } catch (const Json::exception&) {
-    throw WitnessError(fmt::format("witness: field '{}{}' has the wrong type", where, key));
-  }
-}
-
-// j[key] as an integer in [lo, hi]. A JSON number written as a float ("1e3") counts when it is
-// integral. Anything else is a WitnessError naming the field and the range: the value is never
-// wrapped into range (-1 is not the largest Mode) nor converted with undefined behaviour.
-template <class T>
-T integer_field(const Json& j, const char* key, const std::string& where, T lo, T hi) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number()) throw wrong_type(key, where, "an integer");
-  const auto in_range = [&](auto i) { return std::cmp_greater_equal(i, lo) && std::cmp_less_equal(i, hi); };
-  if (v.is_number_unsigned()) {
-    const auto u = v.get<std::uint64_t>();
-    if (in_range(u)) return static_cast<T>(u);
-  } else if (v.is_number_integer()) {
-    const auto i = v.get<std::int64_t>();
-    if (in_range(i)) return static_cast<T>(i);
-  } else {
-    const double d = v.get<double>();
-    // 2^64 and -2^63 are exact doubles: inside these bounds the conversions below are exact.
-    if (std::isfinite(d) && d == std::floor(d)) {
-      if (d >= 0.0 && d < 18446744073709551616.0) {
-        const auto u = static_cast<std::uint64_t>(d);
-        if (in_range(u)) return static_cast<T>(u);
-      } else if (d < 0.0 && d >= -9223372036854775808.0) {
-        const auto i = static_cast<std::int64_t>(d);
-        if (in_range(i)) return static_cast<T>(i);
-      }
-    }
-  }
-  throw WitnessError(fmt::format("witness: field '{}{}' = {} is out of range (an integer in [{}, {}])", where, key,
-                                 v.dump(), lo, hi));
-}
-
-// j[key] as a finite number.
-double number_field(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number()) throw wrong_type(key, where, "a number");
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) throw WitnessError(fmt::format("witness: field '{}{}' is not finite", where, key));
-  return d;
-}
-
-// j[key] as a list of finite numbers, of expected_size values unless that is -1.
-std::vector<double> numbers(const Json& j, const char* key, const std::string& where,
-                            std::size_t expected_size) {
-  const Json& a = member(j, key, where);
-  if (!a.is_array()) throw wrong_type(key, where, "an array of numbers");
-  if (expected_size != static_cast<std::size_t>(-1) && a.size() != expected_size)
-    throw WitnessError(fmt::format("witness: field '{}{}' has {} values, expected {}", where, key,
-                                   a.size(), expected_size));
-  std::vector<double> v;
-  v.reserve(a.size());
-  for (const Json& x : a) {
-    if (!x.is_number()) throw wrong_type(key, where, "an array of numbers");
-    v.push_back(x.get<double>());
-    if (!std::isfinite(v.back()))
-      throw WitnessError(fmt::format("witness: field '{}{}' holds a non-finite value", where, key));
-  }
-  return v;
-}
-
-// Where a JSON text failed to parse, and why: nlohmann's SAX interface reports the byte offset
-// of every error, the number overflow ("1e999", out_of_range.406) included, which its DOM
-// parser throws without one.
-struct ParseErrorLocator final : nlohmann::json_sax<Json> {
-  std::size_t position = 0;
-  std::string cause;
-  bool null() override { return true; }
-  bool boolean(bool) override { return true; }
-  bool number_integer(number_integer_t) override { return true; }
-  bool number_unsigned(number_unsigned_t) override { return true; }
-  bool number_float(number_float_t, const string_t&) override { return true; }
-  bool string(string_t&) override { return true; }
-  bool binary(binary_t&) override { return true; }
-  bool start_object(std::size_t) override { return true; }
-  bool key(string_t&) override { return true; }
-  bool end_object() override { return true; }
-  bool start_array(std::size_t) override { return true; }
-  bool end_array() override { return true; }
-  bool parse_error(std::size_t pos, const std::string&, const nlohmann::detail::exception& ex) override {
-    position = pos;
-    cause = ex.what();
-    // nlohmann's what() is "[json.exception.KIND.ID] parse error at line L, column C: CAUSE" or
-    // "[json.exception.KIND.ID] CAUSE": keep CAUSE (the location is reported separately).
-    if (const auto b = cause.find("] "); b != std::string::npos) cause.erase(0, b + 2);
-    if (cause.rfind("parse error", 0) == 0)
-      if (const auto c = cause.find(": "); c != std::string::npos) cause.erase(0, c + 2);
-    return false;
-  }
-};
-
-}  // namespace
-
-Witness witness_from_text(std::string_view text) {
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::exception& e) {
-    ParseErrorLocator where;
-    Json::sax_parse(text, &where);
-    if (where.cause.empty()) where.cause = e.what();  // (the SAX pass found nothing: keep the original)
-    // Line and column of the byte (1-based, as editors count).
-    const std::size_t at = std::min(where.position, text.size());
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < at; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    throw WitnessError(fmt::format("JSON error at byte {} (line {}, column {}): {}", where.position, line,
-                                   column, where.cause));
-  }
-  return witness_from_json(j);
-}
-
-Witness make_witness(const System& system, std::string method, std::int64_t trial_seed, Trajectory trajectory) {
-  const SystemInfo& info = system.info();
-  Witness w;
-  w.suite = info.suite;
-  w.instance = info.instance;
-  w.method = std::move(method);
-  w.trial_seed = trial_seed;
-  w.state_names = info.state_names;
-  w.input_names = info.input_names;
-  w.trajectory = std::move(trajectory);
-  if (info.sparse_witness_states) {
-    // States only where the input changes (and at the ends): the validator re-simulates every
-    // piece from its own state anyway, and compares the states that are recorded.
-    auto& pieces = w.trajectory.pieces;
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-      const bool starts = i == 0 || pieces[i].u != pieces[i - 1].u;
-      const bool ends = i + 1 == pieces.size() || pieces[i].u != pieces[i + 1].u;
-      if (!starts) std::vector<double>().swap(pieces[i].x_start);
-      if (!ends) std::vector<double>().swap(pieces[i].x_end);
-    }
-  }
-  if (info.requirement) w.requirement = WitnessRequirement{info.requirement->id, info.requirement->text, 0.0};
-  return w;
-}
-
-Json to_json(const Witness& w) {
-  const Trajectory& t = w.trajectory;
-  Json pieces = Json::array();
-  for (const auto& p : t.pieces) {
-    Json piece = {{"mode", p.mode}, {"u", vec(p.u)}, {"duration", p.duration}};
-    if (!p.x_start.empty()) piece["x_start"] = vec(p.x_start);  // not recorded: left out
-    if (!p.x_end.empty()) piece["x_end"] = vec(p.x_end);
-    piece["transition"] = p.transition;
-    pieces.push_back(std::move(piece));
-  }
-  Json j = {{"format", "hyfal-witness/1"},
-          {"suite", w.suite},
-          {"instance", w.instance},
-          {"method", w.method},
-          {"trial_seed", w.trial_seed},
-          {"parameters", vec(t.parameters)},
-          {"state_names", w.state_names},
-          {"input_names", w.input_names},
-          {"initial", {{"mode", t.initial_mode}, {"x", vec(t.initial_x)}}},
-          {"pieces", pieces},
-          {"final", {{"mode", t.final_mode}, {"x", vec(t.final_x)}, {"spec", t.final_spec}}}};
-  if (w.requirement)
-    j["requirement"] = {{"id", w.requirement->id}, {"formula", w.requirement->formula},
-                        {"robustness", w.requirement->robustness}};
-  if (t.linear_input) {
-    Json values = Json::array();
-    for (const auto& v : t.linear_input->values) values.push_back(vec(v));
-    j["input_signal"] = {{"shape", "linear"}, {"times", vec(t.linear_input->times)}, {"values", values},
-                         {"piece", t.linear_input->piece}};
-  }
-  return j;
-}
-
-Witness witness_from_json(const Json& j) {
-  if (!j.is_object()) throw WitnessError("witness: the document is not a JSON object");
-  if (field<std::string>(j, "format", "") != "hyfal-witness/1")
-    throw WitnessError("witness: field 'format' is not \"hyfal-witness/1\"");
-  Witness w;
-  w.suite = field<std::string>(j, "suite", "");
-  if (!member(j, "instance", "").is_object()) throw wrong_type("instance", "", "an object");
-  w.instance = j.at("instance");
-  w.method = field<std::string>(j, "method", "");
-  w.trial_seed = integer_field<std::int64_t>(j, "trial_seed", "", std::numeric_limits<std::int64_t>::min(),
-                                             std::numeric_limits<std::int64_t>::max());
-  w.state_names = field<std::vector<std::string>>(j, "state_names", "");
-  w.input_names = field<std::vector<std::string>>(j, "input_names", "");
-  const std::size_t n = w.state_names.size(), m = w.input_names.size();
-  Trajectory& t = w.trajectory;
-  constexpr Mode kModeMax = std::numeric_limits<Mode>::max();
-  t.parameters = numbers(j, "parameters", "", static_cast<std::size_t>(-1));
-  const Json& initial = member(j, "initial", "");
-  t.initial_mode = integer_field<Mode>(initial, "mode", "initial.", 0, kModeMax);
-  t.initial_x = numbers(initial, "x", "initial.", n);
-  const Json& pieces = member(j, "pieces", "");
-  if (!pieces.is_array()) throw wrong_type("pieces", "", "an array");
-  t.pieces.reserve(pieces.size());
-  for (std::size_t i = 0; i < pieces.size(); ++i) {
-    const Json& pj = pieces[i];
-    const std::string where = fmt::format("pieces[{}].", i);
-    TrajectoryPiece p;
-    p.mode = integer_field<Mode>(pj, "mode", where, 0, kModeMax);
-    p.u = numbers(pj, "u", where, m);
-    p.duration = number_field(pj, "duration", where);
-    if (!(p.duration >= 0.0)) throw WitnessError(fmt::format("witness: field '{}duration' must be >= 0", where));
-    // Optional (SystemInfo::sparse_witness_states): a piece may leave its states out.
-    if (pj.contains("x_start")) p.x_start = numbers(pj, "x_start", where, n);
-    if (pj.contains("x_end")) p.x_end = numbers(pj, "x_end", where, n);
-    // -1: no transition at the end of the piece; otherwise a guard index of the piece's mode.
-    p.transition = pj.contains("transition")
-                       ? integer_field<int>(pj, "transition", where, -1, std::numeric_limits<int>::max())
-                       : -1;
-    t.pieces.push_back(std::move(p));
-  }
-  const Json& final_j = member(j, "final", "");
-  t.final_mode = integer_field<Mode>(final_j, "mode", "final.", 0, kModeMax);
-  t.final_x = numbers(final_j, "x", "final.", n);
-  t.final_spec = number_field(final_j, "spec", "final.");
-  if (j.contains("requirement")) {
-    const Json& rj = member(j, "requirement", "");
-    w.requirement = WitnessRequirement{field<std::string>(rj, "id", "requirement."),
-                                       field<std::string>(rj, "formula", "requirement."),
-                                       number_field(rj, "robustness", "requirement.")};
-  }
-  if (j.contains("input_signal")) {
-    const Json& sj = member(j, "input_signal", "");
-    if (!sj.is_object()) throw wrong_type("input_signal", "", "an object");
-    if (field<std::string>(sj, "shape", "input_signal.") != "linear")
-      throw WitnessError("witness: field 'input_signal.shape' is not \"linear\" (the only declared input signal)");
-    LinearInput in;
-    in.times = numbers(sj, "times", "input_signal.", static_cast<std::size_t>(-1));
-    const Json& values = member(sj, "values", "input_signal.");
-    if (!values.is_array()) throw wrong_type("values", "input_signal.", "an array of arrays of numbers");
-    if (values.size() != in.times.size())
-      throw WitnessError(fmt::format("witness: field 'input_signal.values' has {} control points, 'input_signal.times' {}",
-                                     values.size(), in.times.size()));
-    for (std::size_t k = 0; k < values.size(); ++k) {
-      const std::string where = fmt::format("input_signal.values[{}]", k);
-      if (!values[k].is_array()) throw wrong_type("", where, "an array of numbers");
-      std::vector<double> v;
-      for (const Json& x : values[k]) {
-        if (!x.is_number() || !std::isfinite(x.get<double>())) throw wrong_type("", where, "an array of finite numbers");
-        v.push_back(x.get<double>());
-      }
-      if (v.size() != m)
-        throw WitnessError(fmt::format("witness: field '{}' has {} values, expected {}", where, v.size(), m));
-      in.values.push_back(std::move(v));
-    }
-    in.piece = number_field(sj, "piece", "input_signal.");
-    if (!(in.piece > 0.0)) throw WitnessError("witness: field 'input_signal.piece' must be > 0");
-    t.linear_input = std::move(in);
-  }
-  return w;
-}
-
-HeldInputEnd append_held_input(Trajectory& t, Propagator& prop, Mode& q, std::vector<double>& x,
-                               std::vector<double>& next, std::span<const double> u, std::span<const double> p,
-                               double duration) {
-  const HeldInputEnd e = hold_input(
-      prop, q, x, next, u, p, 0.0, duration, [](double, Mode) { return true; },
-      [&](const PropagationResult& r, Mode from, std::span<const double> x_start, double) {
-        TrajectoryPiece tp;
-        tp.mode = from;
-        tp.u.assign(u.begin(), u.end());
-        tp.duration = r.duration;
-        tp.transition = r.end == PropagationEnd::jumped ? r.transition : -1;
-        tp.x_start.assign(x_start.begin(), x_start.end());
-        tp.x_end.resize(x_start.size());
-        prop.flow(from, x_start, u, p, r.duration, tp.x_end);  // before the reset
-        if (r.duration > 0.0 || tp.transition >= 0) t.pieces.push_back(std::move(tp));
-      });
-  q = e.result.mode;
-  return e;
-}
-
-Trajectory trajectory_from_tree(const System& system, Propagator& propagator,
-                                const NodeStore& tree, NodeId leaf,
-                                std::span<const double> parameters) {
-  Trajectory t;
-  t.parameters.assign(parameters.begin(), parameters.end());
-  const auto path = tree.path_to(leaf);
-  const NodeId root = path.front();
-  t.initial_mode = tree.info(root).mode;
-  t.initial_x.assign(tree.state(root).begin(), tree.state(root).end());
-  if (system.info().requirement && system.info().held_inputs) {
-    // A fresh propagator in STL mode, as the tree propagated its edges (the planner's may be
-    // interrupted: its deadline passed as the falsifying node was found).
-    NoSamples none;
-    const auto prop = system.make_propagator();
-    prop->set_trace(&none);
-    std::vector<double> x, next;
-    for (std::size_t i = 1; i < path.size(); ++i) {
-      const NodeInfo& n = tree.info(path[i]);
-      Mode q = n.edge_mode;
-      const auto xs = tree.state(path[i - 1]);
-      x.assign(xs.begin(), xs.end());
-      // Held for δt, as every tree method asks (n.duration, the sum of the flow times, may differ
-      // from it in the last bit, and an edge cut short by the invariant stops there again).
-      append_held_input(t, *prop, q, x, next, tree.input(path[i]), parameters, system.info().step_duration);
-      const auto xe = tree.state(path[i]);
-      if (q != n.mode || !std::equal(x.begin(), x.end(), xe.begin(), xe.end()))
-        throw std::logic_error("trajectory_from_tree: an edge re-simulates to another state than the tree's");
-    }
-  } else {
-    for (std::size_t i = 1; i < path.size(); ++i) {
-      const NodeInfo& n = tree.info(path[i]);
-      TrajectoryPiece p;
-      p.mode = n.edge_mode;
-      p.u.assign(tree.input(path[i]).begin(), tree.input(path[i]).end());
-      p.duration = n.duration;
-      p.transition = n.transition;
-      const auto xs = tree.state(path[i - 1]);
-      p.x_start.assign(xs.begin(), xs.end());
-      p.x_end.resize(xs.size());
-      propagator.flow(p.mode, xs, p.u, parameters, p.duration, p.x_end);
-      t.pieces.push_back(std::move(p));
-    }
-  }
-  t.final_mode = tree.info(leaf).mode;
-  t.final_x.assign(tree.state(leaf).begin(), tree.state(leaf).end());
-  t.final_spec = system.spec(t.final_mode, t.final_x, parameters);
-  return t;
-}
 
 namespace {
 
 // Largest componentwise error relative to the tolerance scale (1 + |x_i|).
 double scaled_error(std::span<const double> a, std::span<const double> b) {
   double e = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    e = std::max(e, std::abs(a[i] - b[i]) / (1.0 + std::abs(b[i])));
+  for (std::size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]) / (1.0 + std::abs(b[i])));
   return e;
 }
 
@@ -405,8 +57,8 @@ Failure shape_mismatch(const System& system, const Witness& w) {
     const std::size_t m = system.inputs(piece.mode).dim();
     if (piece.u.size() != m) return fmt::format("piece {}: u has {} values, U has {}", i, piece.u.size(), m);
     if (piece.transition < -1 || piece.transition >= system.guard_count(piece.mode))
-      return fmt::format("pieces[{}].transition = {}: mode {} has {} transitions (indices from 0)", i,
-                         piece.transition, system.mode_name(piece.mode), system.guard_count(piece.mode));
+      return fmt::format("pieces[{}].transition = {}: mode {} has {} transitions (indices from 0)", i, piece.transition,
+                         system.mode_name(piece.mode), system.guard_count(piece.mode));
   }
   if (!system.valid_mode(t.final_mode))
     return fmt::format("final.mode = {} is not a mode of suite '{}'", t.final_mode, info.suite);
@@ -423,8 +75,9 @@ Failure linear_input_mismatch(const System& system, const Trajectory& t) {
   const LinearInput& in = *t.linear_input;
   const double dt = info.step_duration;
   if (info.held_inputs && !info.interpolated_inputs)
-    return std::string("the witness declares a linear input signal (input_signal), but this instance admits only inputs "
-                       "held constant for δt");
+    return std::string(
+        "the witness declares a linear input signal (input_signal), but this instance admits only inputs "
+        "held constant for δt");
   if (in.times.size() < 2) return std::string("input_signal has fewer than 2 control points");
   if (in.times.front() != 0.0) return fmt::format("input_signal.times[0] = {:.9g}, not 0", in.times.front());
   if (!(in.piece <= dt * (1.0 + 1e-9)))
@@ -473,11 +126,11 @@ Failure linear_input_mismatch(const System& system, const Trajectory& t) {
       if (!holds(piece, e) && now >= end - slack && e + 1 < expected.size() && holds(piece, e + 1)) next();
     }
     if (now < start - slack || now + piece.duration > end + slack)
-      return fmt::format("pieces[{}] ([{:.9g}, {:.9g}] s) is not inside one piece of the declared linear signal", i, now,
-                         now + piece.duration);
+      return fmt::format("pieces[{}] ([{:.9g}, {:.9g}] s) is not inside one piece of the declared linear signal", i,
+                         now, now + piece.duration);
     if (!holds(piece, e))
-      return fmt::format("pieces[{}]: input {} is not the declared linear signal's {} there", i, fmt::join(piece.u, ", "),
-                         fmt::join(expected[e].u, ", "));
+      return fmt::format("pieces[{}]: input {} is not the declared linear signal's {} there", i,
+                         fmt::join(piece.u, ", "), fmt::join(expected[e].u, ", "));
     now += piece.duration;
   }
   return std::nullopt;
@@ -503,9 +156,10 @@ Failure outside_the_system(const System& system, const Trajectory& t) {
       if (t.pieces[i + 1].u == t.pieces[i].u) continue;
       const double k = std::round(now / info.step_duration);
       if (std::abs(now - k * info.step_duration) > 1e-6 * std::max(1.0, now))
-        return fmt::format("pieces[{}] changes the input at t = {:.9g} s, not at a multiple of δt = {:.6g} s (the "
-                           "system's inputs are a signal held for δt)",
-                           i + 1, now, info.step_duration);
+        return fmt::format(
+            "pieces[{}] changes the input at t = {:.9g} s, not at a multiple of δt = {:.6g} s (the "
+            "system's inputs are a signal held for δt)",
+            i + 1, now, info.step_duration);
     }
   }
   for (std::size_t i = 0; i < t.parameters.size(); ++i)
@@ -538,8 +192,10 @@ Failure too_much_work(const Trajectory& t, double max_step) {
   double sub_intervals = 0.0;
   for (const auto& piece : t.pieces) sub_intervals += std::max(1.0, std::ceil(piece.duration / max_step));
   if (!(sub_intervals <= kMaxSubIntervals))
-    return fmt::format("re-simulating the witness needs {:.3g} integration intervals of at most {:.3g} s, "
-                       "more than {:.0e}", sub_intervals, max_step, kMaxSubIntervals);
+    return fmt::format(
+        "re-simulating the witness needs {:.3g} integration intervals of at most {:.3g} s, "
+        "more than {:.0e}",
+        sub_intervals, max_step, kMaxSubIntervals);
   return std::nullopt;
 }
 
@@ -609,8 +265,10 @@ Failure flow_through(Replay& run, const TrajectoryPiece& piece, std::size_t i) {
     if (inside)
       for (int k = 0; k < system.guard_count(q); ++k)
         if (system.guard_with_input(q, k, run.x, piece.u, run.p) > run.tol)
-          return fmt::format("piece {}: transition {} is enabled at t = {:.6g} inside the piece, "
-                             "but transitions are urgent", i, k, at);
+          return fmt::format(
+              "piece {}: transition {} is enabled at t = {:.6g} inside the piece, "
+              "but transitions are urgent",
+              i, k, at);
   }
   return std::nullopt;
 }
@@ -627,7 +285,7 @@ Failure replay_piece(Replay& run, const TrajectoryPiece& piece, std::size_t i, b
     return fmt::format("piece {}: x_start differs from the re-simulated state by {:.3g}", i, e0);
   if (Failure why = inadmissible_input(system, run.q, piece, i, run.tol, run.x)) return why;
   if (run.sampler) {
-    if (i == 0) {  // the first sample, with the first piece's input (core/requirements/edge_monitor.hpp)
+    if (i == 0) {  // the first sample, with the first piece's input (core/search/edge_monitor.hpp)
       run.sampler->begin(0.0, piece.u, run.p, run.rows);
       run.sampler->sample(0.0, run.q, run.x);
     }
@@ -673,9 +331,10 @@ Failure final_state_mismatch(Replay& run, const Trajectory& t, double& final_spe
 // `what`: the trace, as the reason names it.
 Failure prefix_not_violating(const stl::TraceVerdict& v, double end, std::string_view what, const std::string& text) {
   if (v.complete || v.falsified()) return std::nullopt;
-  return fmt::format("{} ends at t = {:.6g}, before the requirement's horizon {:.6g}: as a prefix its robustness lies "
-                     "in [{:.6g}, {:.6g}], which what follows may make >= 0, for '{}'",
-                     what, end, v.horizon, v.bounds.lower, v.bounds.upper, text);
+  return fmt::format(
+      "{} ends at t = {:.6g}, before the requirement's horizon {:.6g}: as a prefix its robustness lies "
+      "in [{:.6g}, {:.6g}], which what follows may make >= 0, for '{}'",
+      what, end, v.horizon, v.bounds.lower, v.bounds.upper, text);
 }
 
 // An STL witness's trace against its requirement: the offline robustness of the re-simulated
@@ -740,12 +399,16 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
   const stl::Requirement* req = system.info().requirement.get();
   const bool replay = system.info().validation_by_replay && !system.signal_model();
   if (!req)
-    return fail(replay ? "a witness replayed with the suite's own simulator is judged by an STL requirement; the instance has none"
-                       : "a model known only by its simulations is judged by an STL requirement; the instance has none");
-  if (replay && t.linear_input) return fail("a replayed witness holds its input on pieces of δt; this one declares a linear signal");
+    return fail(
+        replay
+            ? "a witness replayed with the suite's own simulator is judged by an STL requirement; the instance has none"
+            : "a model known only by its simulations is judged by an STL requirement; the instance has none");
+  if (replay && t.linear_input)
+    return fail("a replayed witness holds its input on pieces of δt; this one declares a linear signal");
   if (!w.requirement) return fail("the instance has an STL requirement, but the witness records none");
   if (w.requirement->formula != req->text)
-    return fail(fmt::format("the witness's requirement '{}' is not its instance's '{}'", w.requirement->formula, req->text));
+    return fail(
+        fmt::format("the witness's requirement '{}' is not its instance's '{}'", w.requirement->formula, req->text));
   std::vector<stl::InputPiece> pieces;
   if (replay)
     pieces = input_signal_on_grid(system, t);
@@ -759,8 +422,9 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
     r.robustness = rho;
     r.samples = trace.samples();
     if (!(rho < 0.0))
-      return fail(fmt::format("the model's simulation of the witness's input ({} samples) has robustness {:.6g} >= 0 for '{}'",
-                              trace.samples(), rho, req->text));
+      return fail(
+          fmt::format("the model's simulation of the witness's input ({} samples) has robustness {:.6g} >= 0 for '{}'",
+                      trace.samples(), rho, req->text));
     if (Failure why = prefix_not_violating(monitor.judge(trace), trace.time.empty() ? 0.0 : trace.time.back(),
                                            "the model's simulation of the witness's input", req->text))
       return fail(std::move(*why));
@@ -768,9 +432,10 @@ void validate_by_simulation(const System& system, const Witness& w, ValidationRe
     return fail(fmt::format("the model failed to simulate the witness's input: {}", e.what()));
   }
   r.valid = true;
-  r.reason = replay ? fmt::format("valid: replayed with the suite's own simulator (validation_by_replay), {} input pieces "
-                                  "of {:.6g} s, robustness {:.6g} over {} samples",
-                                  pieces.size(), system.info().step_duration, *r.robustness, r.samples)
+  r.reason = replay ? fmt::format(
+                          "valid: replayed with the suite's own simulator (validation_by_replay), {} input pieces "
+                          "of {:.6g} s, robustness {:.6g} over {} samples",
+                          pieces.size(), system.info().step_duration, *r.robustness, r.samples)
                     : fmt::format("valid: the model simulated the {} pieces again, robustness {:.6g} over {} samples",
                                   t.pieces.size(), *r.robustness, r.samples);
 }
@@ -797,8 +462,18 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
   if (Failure why = too_much_work(t, tight.max_step)) return fail(std::move(*why));
 
   const auto propagator = system.make_propagator(tight);
-  Replay run{system, *propagator, t.parameters, system.info().witness_tolerance, tight.max_step, t.initial_mode,
-             t.initial_x, std::vector<double>(t.initial_x.size()), 0.0, std::nullopt, {}, 0.0};
+  Replay run{system,
+             *propagator,
+             t.parameters,
+             system.info().witness_tolerance,
+             tight.max_step,
+             t.initial_mode,
+             t.initial_x,
+             std::vector<double>(t.initial_x.size()),
+             0.0,
+             std::nullopt,
+             {},
+             0.0};
   if (system.info().requirement) run.sampler.emplace(system, *system.info().requirement);
   Failure why;
   // The recorded states are compared at every piece's ends; a linear signal's (linear_input),
@@ -822,9 +497,10 @@ ValidationReport validate_witness(const System& system, const Witness& w) {
   r.max_state_error = run.max_state_error;
   if (why) return fail(std::move(*why));
   r.valid = true;
-  r.reason = r.robustness ? fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, robustness {:.6g} "
-                                        "over {} samples",
-                                        t.pieces.size(), r.max_state_error, *r.robustness, r.samples)
+  r.reason = r.robustness ? fmt::format(
+                                "valid: {} pieces re-simulated, max state error {:.3g}, robustness {:.6g} "
+                                "over {} samples",
+                                t.pieces.size(), r.max_state_error, *r.robustness, r.samples)
                           : fmt::format("valid: {} pieces re-simulated, max state error {:.3g}, final s = {:.6g}",
                                         t.pieces.size(), r.max_state_error, r.final_spec);
   return r;

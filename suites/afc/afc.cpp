@@ -59,15 +59,15 @@
 //     the linear interpolation in x_d (= in time, as Simulink's interpolation, where x_d is linear
 //     between samples). Deviation from Simulink: samples every 10 ms instead of every solver step
 //     (ode15s takes steps of at most 5 ms here, the pulse generator's edges), so the interpolation
-//     between samples is coarser; its error is measured (tests/test_afc.cpp against the sim2cpp
+//     between samples is coarser; its error is measured (tests/suites/test_afc.cpp against the sim2cpp
 //     export's traces). The register spans 0.39 s of history; a delay longer than that (outside the
 //     ARCH range: d <= 0.35 s for c >= 0.15 g at 900-1100 rpm, the runs stay within 0.166-0.19 g)
-//     is clamped to the oldest sample (documented clamp; tests/test_afc.cpp checks the ARCH runs
+//     is clamped to the oldest sample (documented clamp; tests/suites/test_afc.cpp checks the ARCH runs
 //     stay within it). The register is filled at the power-on event with x_d = 0 and the AF_cyl of
 //     that instant (Simulink's first sample is t = 0; the difference is 1 ms of start-up, when mu is
 //     0 and the loop is open). 137 state components: each RK4 step runs its 5 vector loops over all
 //     of them.
-//  7. Integrator: ROS34PW2 (core/rosenbrock.hpp: linearly implicit, L-stable, third order, with
+//  7. Integrator: ROS34PW2 (core/simulate/rosenbrock.hpp: linearly implicit, L-stable, third order, with
 //     its embedded second-order solution for step-size control; `integrator`, default ros34pw2),
 //     tolerance 1e-7 absolute and relative (`tolerance`), steps of at most 0.01 s, every
 //     propagation starting at 5 ms (`integration_step`). Why implicit: the Pm equation is stiff
@@ -77,7 +77,7 @@
 //     `integrator = rk4`, `integration_step` its fixed step, default 1e-4, dividing 0.01 s).
 //     flowing_dim: the controller's states and the delay register only jump, so ROS34PW2
 //     integrates 8 of the 137 components and its Jacobian (forward differences) is 8 × 8. Measured
-//     (tests/test_afc.cpp, bench/bench_afc.cpp, Release, this 2-core machine): max |mu -
+//     (tests/suites/test_afc.cpp, bench/bench_afc.cpp, Release, this 2-core machine): max |mu -
 //     mu_dopri5(1e-10)| at the ticks 1.2e-5 (AFC29-like) and 7.7e-6 (AFC33-like), RK4 at 1e-4
 //     3.5e-6 and 4.2e-6; about 2.5 accepted steps and one rejected step per tick (the rejected one
 //     spans the delayed fuel command's jump, item 6); BM_SimulateAfc 13.5 ms against RK4's 283 ms
@@ -104,7 +104,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
+#include "suites/common/timed_model.hpp"
 #include "suites/afc/afc_plant.hpp"
 #include "suites/registry.hpp"
 
@@ -120,7 +121,7 @@ constexpr int kSlots = 40;          // delay register: samples at the last 40 ti
 constexpr double kInitialOutput = 14.7;
 constexpr double kRk4Step = 1e-4, kRosFirstStep = 0.005;  // the integrators' default steps (header, 7)
 
-class Afc {
+class Afc : public TimedModel<Afc> {
  public:
   enum : int {
     kXTheta = 0, kPm, kMp, kAf1, kAf, kXd, kTime, kClock,
@@ -131,8 +132,7 @@ class Afc {
   static constexpr int flowing_dim = kPhat;  // the controller's states and the register only jump
   static constexpr std::array<int, 2> flow_unread = {kTime, kClock};  // ROS34PW2 skips their J columns
 
-  Afc(double horizon, double lo, double hi)
-      : horizon_(horizon), inputs_(InputSet{Box{{lo}, {hi}}, {lo, 0.5 * (lo + hi), hi}}) {}
+  Afc(double horizon, double lo, double hi) : TimedModel(horizon, ends_and_midpoint(lo, hi)) {}
 
   int dim() const { return kDim; }
   bool valid_mode(Mode q) const { return q <= 1; }
@@ -262,12 +262,10 @@ class Afc {
 
   // 1e-6 s of slack: t is located at every tick on the Hermite interpolant, and drifts from the sum
   // of the propagations' durations by ~2e-14 s per tick (1.1e-9 s at 50 s, measured).
-  bool invariant(Mode, const double* x, const double*) const { return x[kTime] <= horizon_ + 1e-6; }
   static double mu(const double* x) { return x[kTime] >= 1.0 && x[kRef] != 0.0 ? x[kAf] / x[kRef] - 1.0 : 0.0; }
   double spec(Mode, const double* x, const double*) const {
     return std::max(0.007 - std::abs(mu(x)), 11.0 - x[kTime]);
   }
-  const InputSet& inputs(Mode) const { return inputs_; }
   void outputs(Mode, const double* x, const double*, const double* p, double* y) const {
     y[0] = mu(x);
     y[1] = x[kMode];
@@ -276,10 +274,6 @@ class Afc {
     y[4] = p[0];
   }
   std::string mode_name(Mode q) const { return q == 0 ? "start" : "running"; }
-
- private:
-  double horizon_;
-  InputSet inputs_;
 };
 
 std::shared_ptr<const System> make_afc(const Json& instance) {

@@ -1,6 +1,6 @@
 // The AFC plant's algebra (docs/sources/afc-model.md §4, §6.1): throttle flow, pumping, the three
 // 2-D lookup tables with Simulink's linear extrapolation. Inline, so that the flow in afc.cpp and
-// the table checks in tests/test_afc.cpp use the same code. All double precision (the plant is
+// the table checks in tests/suites/test_afc.cpp use the same code. All double precision (the plant is
 // double in the Simulink model; only the controller is single, afc.cpp).
 #pragma once
 #include <algorithm>

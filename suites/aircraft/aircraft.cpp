@@ -164,9 +164,9 @@
 
 #include <fmt/format.h>
 
-#include "core/decomposition.hpp"
-#include "core/paper_table.hpp"
-#include "core/rng.hpp"
+#include "core/model/decomposition.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/util/rng.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

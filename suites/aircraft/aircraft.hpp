@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/model.hpp"
-#include "core/system.hpp"
+#include "core/model/system.hpp"
+#include "core/simulate/model_system.hpp"
 
 namespace hyfal {
 

@@ -23,7 +23,7 @@
 //    chart. The abort is checked continuously (the chart checks it at its ticks): they differ
 //    only when the speed recrosses the threshold between two ticks.
 //  The thresholds read the throttle, so the guards read the input: `guard(q, k, x, u, p)`
-//  (core/model.hpp); u is constant within a propagation, and a throttle step at a piece's start
+//  (core/model/system.hpp); u is constant within a propagation, and a throttle step at a piece's start
 //  that crosses a threshold fires the guard at once.
 //
 // Source disagreements, decided by the Simulink trace (tests/data/at-simulink-trace.csv):
@@ -70,7 +70,7 @@
 //  - Ū = `input_levels` points per input (default 3: {0, 50, 100} × {0, 162.5, 325}).
 //  - horizon 33 s (invariant t <= horizon): the longest window of the ARCH requirements ends at
 //    30 + 0.1 + 2.5 (AT5x), and the organisers ask for at least 33 s.
-//  - Integrator: RK4, fixed step 0.01 s (0.5 % of rpm needs it; figures in tests/test_at.cpp).
+//  - Integrator: RK4, fixed step 0.01 s (0.5 % of rpm needs it; figures in tests/suites/test_at.cpp).
 //  - x_rand from Ne in [600, 6000], Nw in [0, 2100] (0-150 mph), t in [0, horizon]; the metric
 //    weighs each by its range (the clock c not at all: it only times a shift).
 //
@@ -86,7 +86,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

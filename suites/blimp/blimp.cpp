@@ -155,7 +155,7 @@
 
 #include <Eigen/Core>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

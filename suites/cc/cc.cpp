@@ -19,7 +19,7 @@
 // printed sign CC1 is easy at constant full throttle (robustness about −252) and rarely falsified
 // by random inputs, and CCx (a hard requirement in the competition) is never falsified by 100
 // random inputs; with y' = −v random inputs falsify CC1 a third of the time and CCx always
-// (cc-model.md's measurements; tests/test_cc.cpp repeats them on this model). So the printed sign
+// (cc-model.md's measurements; tests/suites/test_cc.cpp repeats them on this model). So the printed sign
 // is the default, and `keeping=corrected` gives the other reading.
 //
 // Modes: the four followers' modes, 2 bits each (ModePacking{2}; 0 Chasing, 1 Keeping, 2 Braking).
@@ -40,14 +40,14 @@
 //  - `interpolation` = hermite (default): a shift is located on the step's cubic Hermite
 //    interpolant (exact in Chasing and Keeping), directly on the cubic that a gap guard is along
 //    it (guards_affine), by Newton's method from the secant estimate (1.4 steps per shift,
-//    core/root_bracket.hpp), the earliest by its secant estimate first: 0.43 ms per simulation
+//    core/simulate/root_bracket.hpp), the earliest by its secant estimate first: 0.43 ms per simulation
 //    (0.46 ms with CC1's robustness) against 1.17-1.21 ms for `restep` (BM_SimulateCc),
-//    robustness equal to 1e-4 on random inputs (tests/test_cc.cpp). `restep` locates shifts on
+//    robustness equal to 1e-4 on random inputs (tests/suites/test_cc.cpp). `restep` locates shifts on
 //    RK4 re-steps from the step's start with toms748, as in every other suite and as every CC
 //    result stored before 2026-12-05 was made: it is left out of the instance key (those keys
 //    keep meaning re-steps), and the default is keyed. Robustness-guided RRT grows the same trees
 //    with either (its choices treat bounds equal up to rounding as ties, rrt_loop.hpp;
-//    tests/test_cc.cpp): before that, they turned on the last bits, and on CC1 with 7.5 s pieces
+//    tests/suites/test_cc.cpp): before that, they turned on the last bits, and on CC1 with 7.5 s pieces
 //    rrt falsified 39 of 80 runs with hermite against 79 of 80 with re-steps.
 //  - δt (one tree extension, one input piece) = `step`, default 5 s. `input_instance` is ARCH-COMP's:
 //    1 (piecewise continuous inputs: any step) or 2 (piecewise constant, discontinuities at least
@@ -78,7 +78,7 @@
 
 #include <fmt/format.h>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {
@@ -156,7 +156,7 @@ class ChasingCars {
  private:
   // The printed guards are non-strict (d <= 10) and hyfal's fire when g > 0: a slack of 1e-9
   // makes g > 0 at equality, so a follower starting at d = 10 switches to Keeping at once, as
-  // the model does (and as the measured margin of CC1 requires: tests/test_cc.cpp).
+  // the model does (and as the measured margin of CC1 requires: tests/suites/test_cc.cpp).
   static constexpr double kSlack = 1e-9;
   static Follower follower(Mode q, int car) { return static_cast<Follower>(kPacking.get(q, car - 1)); }
 

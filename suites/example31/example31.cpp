@@ -28,7 +28,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

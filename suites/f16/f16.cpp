@@ -90,7 +90,7 @@
 // 1/120 s (4 steps per tick; the state at a tick is located on the step's cubic Hermite
 // interpolant, StepInterpolation::hermite), not dopri5: a fixed step that divides the tick costs
 // 4 steps per tick, and the accuracy is already below the reference's own error.
-// Measured (tests/test_f16.cpp; the plant at the reference's 40 + 40 random points: relative error
+// Measured (tests/suites/test_f16.cpp; the plant at the reference's 40 + 40 random points: relative error
 // <= 3.4e-15 for the 13 plant and 16 controlled-plant derivatives, Nz, Ny, ps, Ny_r, the saturated u):
 //  - against the RK45 traces (all 9 attitudes at 4040 ft: nominal and 8 corners; 5 committed):
 //    worst altitude deviation at the ticks 0.036 ft (corner phi low, theta high, at t = 15 s; the
@@ -112,7 +112,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
+#include "suites/common/timed_model.hpp"
 #include "suites/f16/f16_plant.hpp"
 #include "suites/registry.hpp"
 
@@ -130,13 +131,13 @@ constexpr double kKProp = 4.0, kKDer = 2.0, kFlightDeck = 1000.0, kMinPullTime =
 // The angle's distance from the nearest multiple of 2π, with Python's round (half to even).
 double wrapped(double a) { return a - kTwoPi * std::nearbyint(a / kTwoPi); }
 
-class F16Gcas {
+class F16Gcas : public TimedModel<F16Gcas> {
  public:
   enum GcasMode : Mode { kStandby = 0, kRoll = 1, kPull = 2, kStart = 3 };
   static constexpr int kTime = 16, kClock = 17, kPullClock = 18, kDim = 19;
   static constexpr bool guards_affine = true;  // c - (T - lead)
 
-  explicit F16Gcas(double horizon) : horizon_(horizon), inputs_{Box{{}, {}}, {}} {}
+  explicit F16Gcas(double horizon) : TimedModel(horizon, no_inputs(), 1e-9) {}
 
   int dim() const { return kDim; }
   bool valid_mode(Mode q) const { return q <= kStart; }
@@ -175,10 +176,8 @@ class F16Gcas {
         return nose_high(x) && x[kPullClock] >= kMinPullTime - 1e-6 ? kStandby : kPull;
     }
   }
-  bool invariant(Mode, const double* x, const double*) const { return x[kTime] <= horizon_ + 1e-9; }
   double spec(Mode, const double* x, const double*) const { return x[f16::kH]; }
   bool outside_unsafe(Mode, const double* x, const double*) const { return x[f16::kH] > 0.0; }
-  const InputSet& inputs(Mode) const { return inputs_; }
   void outputs(Mode q, const double* x, const double*, const double* p, double* y) const {
     const bool start = q == kStart;  // the attitude is p's from t = 0 on, the autopilot in roll
     y[0] = x[f16::kH];
@@ -193,10 +192,6 @@ class F16Gcas {
     static constexpr const char* kNames[4] = {"standby", "roll", "pull", "start"};
     return kNames[q];
   }
-
- private:
-  double horizon_;
-  InputSet inputs_;
 };
 
 std::shared_ptr<const System> make_f16(const Json& instance) {

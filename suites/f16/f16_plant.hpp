@@ -3,7 +3,7 @@
 // power lag, the atmosphere, and the LQR inner loop with its 3 integrator states. Every choice and
 // every source is in the header comment of f16.cpp (one place); this file holds the equations and
 // the tables (docs/sources/f16-model.md §2-§5, "model.md" below; f16-tables.json), written from those equations. A header
-// so that tests/test_f16.cpp checks the right-hand side against the reference's point values.
+// so that tests/suites/test_f16.cpp checks the right-hand side against the reference's point values.
 #pragma once
 #include <algorithm>
 #include <cmath>

@@ -109,8 +109,8 @@
 #include <string>
 #include <vector>
 
-#include "core/paper_table.hpp"
-#include "core/system.hpp"
+#include "core/run/paper_table.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

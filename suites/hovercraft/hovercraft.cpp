@@ -88,7 +88,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

@@ -71,7 +71,7 @@
 // 4.1.2). So every method applies controls drawn from the driver's interval at the node: HyDICE
 // one per propagation; a method that would try every input of Ū and keep the best toward x_rand
 // (rrt, rrt-dstar, rrft, enhanced-rrt) draws driver_draws of them (default 1: the extension is
-// then PropagateForward from x_near, as in the paper's baselines; core/inputs.hpp). grid: Ū =
+// then PropagateForward from x_near, as in the paper's baselines; core/search/input_grid.hpp). grid: Ū =
 // the input_levels grid mapped onto the driver's interval, for every method (HyDICE with
 // inputs=auto draws a random element of Ū). Measured (RRT, RandomDriver, 16², property 0, one
 // core): driver_draws = 1 solved 3 of 3 trials in 14-31 s; best of 9 draws solved 1 of 2 in 60 s
@@ -126,8 +126,8 @@
 
 #include <fmt/format.h>
 
-#include "core/decomposition.hpp"
-#include "core/rng.hpp"
+#include "core/model/decomposition.hpp"
+#include "core/util/rng.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

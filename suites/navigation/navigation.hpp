@@ -17,8 +17,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/model.hpp"
-#include "core/system.hpp"
+#include "core/model/system.hpp"
+#include "core/simulate/model_system.hpp"
 
 namespace hyfal {
 
@@ -151,7 +151,7 @@ DriverInterval navigation_driver_interval(NavDriver driver, NavVehicle vehicle, 
 // the closed square box = {x_lo, y_lo, x_hi, y_hi} (<= 0 inside). navigation_outside_box is
 // exactly navigation_box_spec > 0, without the hypot: outside the closed square the distance
 // of a positive offset is > 0, inside it -min(...) <= 0 (the integrator tests every step with
-// it, core/model.hpp).
+// it, core/model/system.hpp).
 inline double navigation_box_spec(const std::array<double, 4>& box, const double* x) {
   const double dx = std::max({box[0] - x[0], 0.0, x[0] - box[2]});
   const double dy = std::max({box[1] - x[1], 0.0, x[1] - box[3]});

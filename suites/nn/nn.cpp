@@ -81,7 +81,7 @@
 //     rounding: the controller is nearly bang-bang (the g network's gain LW6_5 LW5_4 IW5_3 is
 //     -2.1e-4, so (rn - f)/g is large and the current sits at -1 or 4 in most ticks), and a change
 //     of 1e-15 in Pos(0) grows past 1e-3 within 4-6 s and to 0.1-0.17 later
-//     (tests/test_nn.cpp TheClosedLoopIsChaoticAtRoundingLevel). RK4 agrees with dopri5 (1e-11) to
+//     (tests/suites/test_nn.cpp TheClosedLoopIsChaoticAtRoundingLevel). RK4 agrees with dopri5 (1e-11) to
 //     4th order over the first second, and 0.06-0.15 apart over 40 s at every step size; which
 //     inputs falsify depends on the step (300 random inputs: 8 falsify at 2.5 ms, 6 at 0.25 ms,
 //     none at both; measured for issue 41). Hence validation_by_replay (model.hpp): a witness is
@@ -100,7 +100,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
+#include "suites/common/timed_model.hpp"
 #include "suites/nn/nn_weights.hpp"
 #include "suites/registry.hpp"
 
@@ -128,11 +129,11 @@ double subnet(const double (&iw)[9][4], const double (&b1)[9], const double (&lw
   return scale * (s + b2);
 }
 
-class Nn {
+class Nn : public TimedModel<Nn> {
  public:
   enum : int { kPos = 0, kVel, kTime, kClock, kCur, kY1, kU1, kU2, kRefAcc, kRefClock, kRefK, kDim };
 
-  Nn(double horizon, double lo, double hi) : horizon_(horizon), inputs_(InputSet{Box{{lo}, {hi}}, {lo, 0.5 * (lo + hi), hi}}) {}
+  Nn(double horizon, double lo, double hi) : TimedModel(horizon, ends_and_midpoint(lo, hi)) {}
 
   int dim() const { return kDim; }
   bool valid_mode(Mode q) const { return q == 0; }
@@ -184,21 +185,15 @@ class Nn {
 
   static double band_error(double pos, double ref) { return std::abs(pos - ref) - (kAlpha + kBeta * std::abs(ref)); }
 
-  bool invariant(Mode, const double* x, const double*) const { return x[kTime] <= horizon_ + 1e-6; }
   double spec(Mode, const double* x, const double*) const {
     return std::max(-band_error(x[kPos], x[kRefK]), 1.0 - x[kTime]);
   }
-  const InputSet& inputs(Mode) const { return inputs_; }
   void outputs(Mode, const double* x, const double* u, const double*, double* y) const {
     y[0] = x[kPos];
     y[1] = band_error(x[kPos], u[0]);
     y[2] = x[kCur];
   }
   std::string mode_name(Mode) const { return "running"; }
-
- private:
-  double horizon_;
-  InputSet inputs_;
 };
 
 std::shared_ptr<const System> make_nn(const Json& instance) {

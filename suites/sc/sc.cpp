@@ -50,7 +50,7 @@
 //     response by 1e-6 s: 2.7e-5 kg/s in Fcw against the reference, measured.)
 //  2. Integrator: RK4 at `integration_step` (default 0.01 s; the fastest lags have time constant
 //     0.1 s). Simulink's variable step (ode45, RelTol 1e-3, MaxStep 0.1) is not reproduced: its
-//     tolerance is looser than the requirement's margins. Measured (tests/test_sc.cpp): against the
+//     tolerance is looser than the requirement's margins. Measured (tests/suites/test_sc.cpp): against the
 //     reference traces of the same equations at 1e-3 s (converged), |Δ pressure| at most 6.9e-9 kPa.
 //  3. Input: one input `Fs` (aliases u1, steam), the steam flow in [3.99, 4.01] kg/s, held on pieces
 //     (SystemInfo::held_inputs). `input_instance` 1 (any piecewise-continuous signal): pieces of δt =
@@ -67,7 +67,7 @@
 //     loop is nearly linear over the input range, so the most extreme y4 on [30, 35] comes from a
 //     bang-bang input in resonance. With 20 pieces of 1.75 s (instance 2) the best robustness is
 //     +0.0203 (not falsifiable on these equations); with 175 pieces of 0.2 s it is -0.00245, and
-//     zlscheck's 50 falsifying inputs give -0.0012 to -0.0023 here (tests/test_sc.cpp).
+//     zlscheck's 50 falsifying inputs give -0.0012 to -0.0023 here (tests/suites/test_sc.cpp).
 //  7. Reachability spec (no requirement): s = max(min(Pm - 87, 87.5 - Pm), 30 - t), the pressure out
 //     of the band after 30 s. Tree methods (not tuned): sampling box and metric over (P, Pm, Fcw, t).
 #include <algorithm>
@@ -77,7 +77,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
+#include "suites/common/timed_model.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {
@@ -120,11 +121,11 @@ double lookup(const std::array<double, 7>& table, double p) {
 
 double tansig(double n) { return 2.0 / (1.0 + std::exp(-2.0 * n)) - 1.0; }
 
-class Sc {
+class Sc : public TimedModel<Sc> {
  public:
   enum : int { kP = 0, kT, kPm, kFcw, kD1, kD2, kD3, kD4, kD5, kD6, kTime, kDim };
 
-  Sc(double horizon) : horizon_(horizon), inputs_(InputSet{Box{{3.99}, {4.01}}, {3.99, 4.0, 4.01}}) {}
+  Sc(double horizon) : TimedModel(horizon, ends_and_midpoint(3.99, 4.01)) {}
 
   int dim() const { return kDim; }
   bool valid_mode(Mode q) const { return q == 0 || q == 1; }
@@ -172,11 +173,9 @@ class Sc {
 
   static double band_margin(double pm) { return std::min(pm - sc::kLo, sc::kHi - pm); }
 
-  bool invariant(Mode, const double* x, const double*) const { return x[kTime] <= horizon_ + 1e-6; }
   double spec(Mode, const double* x, const double*) const {
     return std::max(band_margin(x[kPm]), sc::kBandFrom - x[kTime]);
   }
-  const InputSet& inputs(Mode) const { return inputs_; }
   void outputs(Mode, const double* x, const double*, const double*, double* y) const {
     y[0] = x[kT];
     y[1] = x[kFcw];
@@ -184,10 +183,6 @@ class Sc {
     y[3] = x[kPm];
   }
   std::string mode_name(Mode q) const { return q == 0 ? "setpoint 90" : "setpoint 87"; }
-
- private:
-  double horizon_;
-  InputSet inputs_;
 };
 
 std::shared_ptr<const System> make_sc(const Json& instance) {

@@ -31,7 +31,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "core/system.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

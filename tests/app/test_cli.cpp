@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "core/witness/witness.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -575,7 +576,7 @@ TEST_F(CliTest, AWitnessAsArchCsvReplaysToItsRobustness) {
 // (issue 39: AT1 on 10 s of signal was "falsified: no"). The header may use the inputs' aliases.
 // A suite without inputs (f16) needs no input CSV: it runs for its requirements' longest horizon
 // (F16's 15 s), the same run as a CSV of times only; at the ARCH nominal attitude the lowest
-// altitude is 1743.09 ft (the reference's, tests/test_f16.cpp).
+// altitude is 1743.09 ft (the reference's, tests/suites/test_f16.cpp).
 TEST_F(CliTest, SimulateASuiteWithoutInputsNeedsNoInputCsv) {
   const Result s = hyfal({"simulate", "--suite", "f16", "--trace", "t.csv"});
   ASSERT_EQ(s.code, 0) << s;

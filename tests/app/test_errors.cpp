@@ -1,4 +1,4 @@
-// The one error hierarchy (core/error.hpp): every hyfal error is an InputError (exit 2) or an
+// The one error hierarchy (core/util/error.hpp): every hyfal error is an InputError (exit 2) or an
 // EnvironmentError (exit 3), the mixins see both of their kinds, and a catch of std::exception
 // sees each failure once.
 #include <functional>
@@ -10,10 +10,10 @@
 
 #include "app/experiment_file.hpp"
 #include "app/runner.hpp"
-#include "core/error.hpp"
-#include "core/options.hpp"
+#include "core/util/error.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/formula.hpp"
-#include "core/trajectory.hpp"
+#include "core/witness/witness.hpp"
 #include "parallel/cluster.hpp"
 #include "results/store.hpp"
 

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "app/experiment_file.hpp"
-#include "core/paper_table.hpp"
+#include "core/run/paper_table.hpp"
 #include "suites/registry.hpp"
 
 #ifndef HYFAL_SOURCE_DIR

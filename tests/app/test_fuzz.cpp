@@ -42,9 +42,11 @@
 #include <vector>
 
 #include "app/experiment_file.hpp"
-#include "core/options.hpp"
-#include "core/planner.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
 
 #ifndef HYFAL_FUZZ_CORPUS

@@ -12,8 +12,9 @@
 #include <fmt/format.h>
 
 #include "app/experiment_file.hpp"
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
 #include "results/league_report.hpp"
 #include "suites/registry.hpp"
 

@@ -10,10 +10,11 @@
 #include <stdexcept>
 #include <thread>
 
-#include "core/options.hpp"
-#include "core/rng.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

@@ -6,10 +6,11 @@
 #include <cmath>
 #include <limits>
 
-#include "core/options.hpp"
-#include "core/rng.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/trial_wire.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

@@ -1,4 +1,4 @@
-"""hyfal's errors in Python (core/error.hpp, python/module.cpp): every C++ error type reaches
+"""hyfal's errors in Python (core/util/error.hpp, python/module.cpp): every C++ error type reaches
 Python as its own class, beneath hyfal.InputError (a ValueError) or hyfal.EnvironmentError (an
 OSError), and the classes the module's calls raise are those."""
 import numpy as np

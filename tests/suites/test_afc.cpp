@@ -20,10 +20,14 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/trajectory.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/afc/afc_plant.hpp"
 #include "suites/registry.hpp"
 #include "csv_support.hpp"
@@ -125,10 +129,10 @@ AfcRun simulate(const System& sys, const std::vector<double>& pedal, double engi
 
 std::vector<double> constant(double pedal) { return std::vector<double>(10, pedal); }
 
-// tests/data/afc/ beside this file (as test_f16.cpp: no HYFAL_SOURCE_DIR for this test).
+// tests/data/afc/, one folder above this file (as test_f16.cpp: no HYFAL_SOURCE_DIR for this test).
 std::string data_dir() {
   const std::string here = __FILE__;
-  return here.substr(0, here.find_last_of('/') + 1) + "data/afc/";
+  return here.substr(0, here.find_last_of('/') + 1) + "../data/afc/";
 }
 
 struct RefTrace {

@@ -13,11 +13,15 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/trajectory.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/simulate/input_signal.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
 
 

@@ -10,10 +10,13 @@
 #include <numbers>
 #include <random>
 
-#include "core/options.hpp"
-#include "core/system.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

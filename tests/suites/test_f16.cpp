@@ -27,11 +27,16 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/trajectory.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/f16/f16_plant.hpp"
 #include "suites/registry.hpp"
 
@@ -49,11 +54,11 @@ struct Csv {
   double value(std::size_t row, const std::string& name) const { return std::stod(rows[row][column(name)]); }
 };
 
-// tests/data/f16/ beside this file (tests/CMakeLists.txt gives this test no HYFAL_SOURCE_DIR: only its
+// tests/data/f16/, one folder above this file (tests/CMakeLists.txt gives this test no HYFAL_SOURCE_DIR: only its
 // hyfal_test line was added there).
 std::string data_dir() {
   const std::string here = __FILE__;
-  return here.substr(0, here.find_last_of('/') + 1) + "data/f16/";
+  return here.substr(0, here.find_last_of('/') + 1) + "../data/f16/";
 }
 
 Csv read_csv(const std::string& name) {

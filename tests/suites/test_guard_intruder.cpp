@@ -10,10 +10,12 @@
 #include <vector>
 
 #include "app/experiment_file.hpp"
-#include "core/options.hpp"
-#include "core/planner.hpp"
-#include "core/system.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

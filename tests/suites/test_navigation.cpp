@@ -15,12 +15,15 @@
 #include <random>
 #include <set>
 
-#include "core/options.hpp"
-#include "core/system.hpp"
-#include "core/trajectory.hpp"
-#include "core/decomposition.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
+#include "core/model/decomposition.hpp"
 #include "suites/navigation/navigation.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

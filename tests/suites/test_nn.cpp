@@ -21,11 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
-#include "core/planner.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/trajectory.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
 #include "csv_support.hpp"
 
@@ -43,7 +47,7 @@ std::shared_ptr<const System> make_nn(const std::vector<std::pair<std::string, s
 
 std::string data_dir() {
   const std::string here = __FILE__;
-  return here.substr(0, here.find_last_of('/') + 1) + "data/nn/";
+  return here.substr(0, here.find_last_of('/') + 1) + "../data/nn/";
 }
 
 struct NnRun {

@@ -17,10 +17,14 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/trajectory.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
 #include "csv_support.hpp"
 
@@ -38,7 +42,7 @@ std::shared_ptr<const System> make_sc(const std::vector<std::pair<std::string, s
 
 std::string data_dir() {
   const std::string here = __FILE__;
-  return here.substr(0, here.find_last_of('/') + 1) + "data/sc/";
+  return here.substr(0, here.find_last_of('/') + 1) + "../data/sc/";
 }
 
 // One value per line ('#' lines skipped): a pattern of Fs values on equal pieces.

@@ -32,7 +32,7 @@
 //    (WithStatistics.sim in Falsification.scala: `us sample (1, T)`), so its change at 7.5 s
 //    reaches the model at 8 s; the arch-fals published profile runs this method at δt = 1 s for
 //    that reason. Where δt divides every horizon / cp_l the segments are exact. The validator
-//    accepts a held signal that changes only at multiples of δt (core/trajectory.cpp).
+//    accepts a held signal that changes only at multiples of δt (core/witness/trajectory.cpp).
 //  - A node's prefix is judged as FalStar judges it: complete up to its time, so a window that
 //    ends exactly there is decided (Robustness.bounds: an always or eventually is known once the
 //    trace reaches its interval's end, `xs.T < to` being the open case). Our monitor's prefix
@@ -82,9 +82,11 @@
 #include <fmt/format.h>
 #include <nlopt.hpp>
 
-#include "core/input_levels.hpp"
-#include "core/rng.hpp"
-#include "core/signal_search.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/planners/signal_search.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/input_levels.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal {
 
@@ -107,7 +109,7 @@ struct AdaptiveOptions {
   // as a fraction of each input's range.
   std::int64_t local_budget = 0;
   double local_step = 0.125;
-  std::int64_t local_after = 20;  // passes without a new best before a local search
+  std::int64_t local_after = 20;   // passes without a new best before a local search
   std::size_t local_segments = 0;  // trailing segments the local search moves (0: all)
   InputShape shape = InputShape::constant;
 };
@@ -126,21 +128,26 @@ std::vector<int> parse_cp(const std::string& text) {
       used = 0;
     }
     if (used != word.size() || v < 1 || v > 1000)
-      throw std::invalid_argument(fmt::format("adaptive: cp = '{}': '{}' is not a whole number of segments in [1, 1000]", text, word));
+      throw std::invalid_argument(
+          fmt::format("adaptive: cp = '{}': '{}' is not a whole number of segments in [1, 1000]", text, word));
     cp.push_back(v);
   }
-  if (cp.empty()) throw std::invalid_argument("adaptive: cp is empty: give one segment count per level, e.g. cp=\"2 2 3 3 3 4\"");
-  if (cp.size() > 12) throw std::invalid_argument(fmt::format("adaptive: cp = '{}' has {} levels; at most 12", text, cp.size()));
+  if (cp.empty())
+    throw std::invalid_argument("adaptive: cp is empty: give one segment count per level, e.g. cp=\"2 2 3 3 3 4\"");
+  if (cp.size() > 12)
+    throw std::invalid_argument(fmt::format("adaptive: cp = '{}' has {} levels; at most 12", text, cp.size()));
   return cp;
 }
 
 AdaptiveOptions read_options(const Json& o) {
-  AdaptiveOptions a{o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(), parse_cp(o.at("cp").get<std::string>()),
-                    o.at("exploration").get<double>(), o.at("uniform").get<double>(), o.at("prefix").get<double>(),
-                    o.at("suffix").get<double>()};
+  AdaptiveOptions a{
+      o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(), parse_cp(o.at("cp").get<std::string>()),
+      o.at("exploration").get<double>(),  o.at("uniform").get<double>(), o.at("prefix").get<double>(),
+      o.at("suffix").get<double>()};
   a.shape = input_shape_of(o.at("input_shape").get<std::string>());
   if (!(a.uniform + a.prefix + a.suffix > 0.0))
-    throw std::invalid_argument("adaptive: uniform, prefix and suffix are all 0: a tried child could never be chosen again");
+    throw std::invalid_argument(
+        "adaptive: uniform, prefix and suffix are all 0: a tried child could never be chosen again");
   if (o.contains("local_budget")) {
     a.local_budget = o.at("local_budget").get<std::int64_t>();
     a.local_step = o.at("local_step").get<double>();
@@ -181,7 +188,8 @@ class AdaptiveSearch final : public Planner {
         Level level;
         level.duration = horizon / o.cp[l];
         const std::vector<double> f = adaptive::level_fractions(m, static_cast<int>(l));
-        for (std::size_t i = 0; i < f.size(); ++i) level.values.push_back(box.lo[i % m] + f[i] * (box.hi[i % m] - box.lo[i % m]));
+        for (std::size_t i = 0; i < f.size(); ++i)
+          level.values.push_back(box.lo[i % m] + f[i] * (box.hi[i % m] - box.lo[i % m]));
         level.actions = f.size() / m;
         levels_.push_back(std::move(level));
       }
@@ -224,8 +232,8 @@ class AdaptiveSearch final : public Planner {
 
    private:
     struct Level {
-      double duration = 0.0;        // the segment: how long an action holds its value, s
-      std::vector<double> values;   // actions × inputs
+      double duration = 0.0;       // the segment: how long an action holds its value, s
+      std::vector<double> values;  // actions × inputs
       std::size_t actions = 0;
     };
     struct Edge {
@@ -349,7 +357,7 @@ class AdaptiveSearch final : public Planner {
           at = child;
           continue;
         }
-        const Edge e = move == Move::uniform ? bin.done[below(bin.done.size())]
+        const Edge e = move == Move::uniform  ? bin.done[below(bin.done.size())]
                        : move == Move::prefix ? lowest(bin, [](const Node& c) { return c.prefix_upper; })
                                               : lowest(bin, [](const Node& c) { return c.best; });
         path_.push_back({at, l, e.action, e.child, false});
@@ -388,9 +396,11 @@ class AdaptiveSearch final : public Planner {
             std::copy(u, u + m, slot_.pieces[k].u.begin());
             continue;
           }
-          const std::vector<double>& a = from == 0 ? slot_.start : slot_.pieces[from - 1].u;  // the control point at `from`
+          const std::vector<double>& a =
+              from == 0 ? slot_.start : slot_.pieces[from - 1].u;  // the control point at `from`
           const double w = static_cast<double>(k + 1 - from) / static_cast<double>(ends[s] - from);
-          for (std::size_t i = 0; i < m; ++i) slot_.pieces[k].u[i] = k + 1 == ends[s] ? u[i] : stl::linear_value(a[i], u[i], w);
+          for (std::size_t i = 0; i < m; ++i)
+            slot_.pieces[k].u[i] = k + 1 == ends[s] ? u[i] : stl::linear_value(a[i], u[i], w);
         }
         from = std::max(from, ends[s]);
       }
@@ -490,7 +500,8 @@ class AdaptiveSearch final : public Planner {
       if (state.over) throw *state.over;
       if (!(state.best < best_)) return false;
       best_ = state.best;
-      std::copy(state.best_x.begin(), state.best_x.end(), best_values_.begin() + static_cast<std::ptrdiff_t>(first_free_));
+      std::copy(state.best_x.begin(), state.best_x.end(),
+                best_values_.begin() + static_cast<std::ptrdiff_t>(first_free_));
       return true;
     }
 
@@ -535,16 +546,18 @@ void check_adaptive_system(const System& system, const Json& options) {
 }
 
 std::vector<OptionSpec> adaptive_options() {
-  return {{"budget", 1500, "passes per run, each at most one simulation (ARCH-COMP: 1500)", "[1, 100000000]"},
-          {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
-          {"cp", "2 2 3 3 3 4",
-           "segments per level (FalStar's control points): level l holds an input for horizon / cp_l s, a change taking "
-           "effect at the next multiple of δt; level l's values cost l (corners 0, n/2^k costs k, summed over inputs)"},
-          {"exploration", 0.25, "weight of the explore move (an untried action)", "(0, 1]"},
-          {"uniform", 0.25, "weight of the uniform move (a random kept child)", "[0, 1]"},
-          {"prefix", 0.25, "weight of the prefix move (the child with the lowest prefix robustness bound)", "[0, 1]"},
-          {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)", "[0, 1]"},
-          input_shape_option()};
+  return {
+      {"budget", 1500, "passes per run, each at most one simulation (ARCH-COMP: 1500)", "[1, 100000000]"},
+      {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
+      {"cp", "2 2 3 3 3 4",
+       "segments per level (FalStar's control points): level l holds an input for horizon / cp_l s, a change taking "
+       "effect at the next multiple of δt; level l's values cost l (corners 0, n/2^k costs k, summed over inputs)"},
+      {"exploration", 0.25, "weight of the explore move (an untried action)", "(0, 1]"},
+      {"uniform", 0.25, "weight of the uniform move (a random kept child)", "[0, 1]"},
+      {"prefix", 0.25, "weight of the prefix move (the child with the lowest prefix robustness bound)", "[0, 1]"},
+      {"suffix", 0.25, "weight of the suffix move (the child with the lowest simulation robustness below it)",
+       "[0, 1]"},
+      input_shape_option()};
 }
 
 }  // namespace
@@ -553,24 +566,30 @@ MethodEntry adaptive_method() {
   return {"adaptive",
           "FalStar's probabilistically adaptive tree search (Ernst et al. 2019): input levels refined corners first, "
           "pruned by the prefix robustness bound",
-          adaptive_options(), [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
-          check_adaptive_system, true};
+          adaptive_options(),
+          [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
+          check_adaptive_system,
+          true};
 }
 
 MethodEntry adaptive_local_method() {
   std::vector<OptionSpec> options = adaptive_options();
   options.push_back({"local_budget", 20, "simulations of each local search (Nelder-Mead over a new best pass's values)",
                      "[1, 100000]"});
-  options.push_back({"local_step", 0.125, "the local search's first step, as a fraction of each input's range", "(0, 1]"});
-  options.push_back({"local_segments", 0, "the trailing segments whose values the local search moves (0: all)",
-                     "[0, 1000]"});
-  options.push_back({"local_after", 20, "passes in a row without a new best robustness before a local search from the best",
+  options.push_back(
+      {"local_step", 0.125, "the local search's first step, as a fraction of each input's range", "(0, 1]"});
+  options.push_back(
+      {"local_segments", 0, "the trailing segments whose values the local search moves (0: all)", "[0, 1000]"});
+  options.push_back({"local_after", 20,
+                     "passes in a row without a new best robustness before a local search from the best",
                      "[1, 100000]"});
   return {"adaptive-local",
           "tree-optimiser hybrid: FalStar's adaptive tree chooses the signal's shape; where it stalls, the best signal "
           "is polished by a short Nelder-Mead over its values (NLopt)",
-          std::move(options), [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
-          check_adaptive_system, true};
+          std::move(options),
+          [](const Json& o) { return std::make_unique<AdaptiveSearch>(read_options(o)); },
+          check_adaptive_system,
+          true};
 }
 
 }  // namespace hyfal

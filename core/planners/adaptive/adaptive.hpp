@@ -2,7 +2,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/planner.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 
@@ -18,7 +18,7 @@ inline std::vector<MethodEntry> adaptive_methods() { return {adaptive_method(), 
 namespace adaptive {
 
 // The input values of refinement level `level` over `inputs` dimensions, as fractions of each
-// input's range (core/input_levels.hpp; FalStar's Combinatorics.splits): every combination whose
+// input's range (core/search/input_levels.hpp; FalStar's Combinatorics.splits): every combination whose
 // costs sum to exactly `level`. Row-major, in a fixed order.
 std::vector<double> level_fractions(std::size_t inputs, int level);
 

@@ -13,7 +13,7 @@
 //                                β = 1 (heavy, σ = σ_min), or β = n_s / n_β updated every N_s
 //                                iterations (III.5), starting at β = 1 (Alg. 3); the counts run
 //                                over the whole search (beta_counts=run) or restart every N_s
-//                                (window): core/samplers/biased_sampler.hpp says why run.
+//                                (window): core/search/samplers/biased_sampler.hpp says why run.
 // With adaptive sampling, an x_near that fails to grow toward a sample inside S is excluded
 // from selection for later samples inside S (Sect. III-C). The secondary stop of Alg. 3 ends
 // the search (not_found) when the coverage gained over the last `coverage_window` nodes is
@@ -22,7 +22,7 @@
 // With every option at its default this is exactly the baseline RRT (tested).
 //
 // The expansion step is split in two phases so that it can run in batches (issue 12,
-// core/parallel_slots.hpp): propose() (lines 1-4 of Alg. 4: x_rand, x_near, every input of Ū
+// core/search/parallel_slots.hpp): propose() (lines 1-4 of Alg. 4: x_rand, x_near, every input of Ū
 // propagated and scored) only reads the forest; commit() (lines 5-9: the first input not yet
 // applied from x_near, n_j, x_new, exclusions, β's record) writes it. The no-progress filter and
 // the unsafe test are RrtExtension's (core/planners/rrt/rrt_extension.hpp), shared with rrt.
@@ -56,16 +56,17 @@
 
 #include <fmt/format.h>
 
-#include "core/coverage.hpp"
-#include "core/inputs.hpp"
-#include "core/metrics/history_weight.hpp"
-#include "core/metrics/time_to_go.hpp"
-#include "core/nearest.hpp"
-#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
-#include "core/rng.hpp"
-#include "core/samplers/biased_sampler.hpp"
-#include "core/tree.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/coverage_grid.hpp"
+#include "core/search/input_grid.hpp"
+#include "core/search/metrics/history_weight.hpp"
+#include "core/search/metrics/time_to_go.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
+#include "core/search/parallel_slots.hpp"
+#include "core/search/samplers/biased_sampler.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal {
 
@@ -105,15 +106,19 @@ E parse_choice(const Json& o, const char* key, std::initializer_list<std::pair<c
 EnhancedOptions parse_options(const Json& o) {
   EnhancedOptions e{};
   e.selection = parse_choice<Selection>(o, "selection", {{"metric", Selection::metric}, {"t2go", Selection::t2go}});
-  e.history = parse_choice<History>(o, "history", {{"none", History::none}, {"tree", History::tree}, {"knn", History::knn}});
-  e.sampling = parse_choice<Sampling>(o, "sampling", {{"uniform", Sampling::uniform}, {"medium", Sampling::medium},
-                                                      {"heavy", Sampling::heavy}, {"adaptive", Sampling::adaptive}});
+  e.history =
+      parse_choice<History>(o, "history", {{"none", History::none}, {"tree", History::tree}, {"knn", History::knn}});
+  e.sampling = parse_choice<Sampling>(o, "sampling",
+                                      {{"uniform", Sampling::uniform},
+                                       {"medium", Sampling::medium},
+                                       {"heavy", Sampling::heavy},
+                                       {"adaptive", Sampling::adaptive}});
   e.k = o.at("k").get<int>();
   e.sigma_min = o.at("sigma_min").get<double>();
   e.sigma_max = o.at("sigma_max").get<double>();
   e.n_s = o.at("n_s").get<int>();
-  e.beta_counts = parse_choice<AdaptiveBias::Counts>(o, "beta_counts", {{"run", AdaptiveBias::Counts::run},
-                                                                        {"window", AdaptiveBias::Counts::window}});
+  e.beta_counts = parse_choice<AdaptiveBias::Counts>(
+      o, "beta_counts", {{"run", AdaptiveBias::Counts::run}, {"window", AdaptiveBias::Counts::window}});
   e.coverage_window = o.at("coverage_window").get<int>();
   e.delta_c_min = o.at("delta_c_min").get<double>();
   e.coverage_at = o.at("coverage_at").get<std::int64_t>();
@@ -129,8 +134,9 @@ EnhancedOptions parse_options(const Json& o) {
 void check_enhanced_system(const System& sys, const EnhancedOptions& o) {
   const SystemInfo& info = sys.info();
   if (o.sampling != Sampling::uniform && info.goal_point.size() != info.dim())
-    throw std::invalid_argument(fmt::format("sampling={} needs the suite's goal point, which suite '{}' does not declare",
-                                            o.sampling == Sampling::adaptive ? "adaptive" : "biased", info.suite));
+    throw std::invalid_argument(
+        fmt::format("sampling={} needs the suite's goal point, which suite '{}' does not declare",
+                    o.sampling == Sampling::adaptive ? "adaptive" : "biased", info.suite));
 }
 
 // One tree of the forest, with the per-node bookkeeping the enhancements need.
@@ -138,10 +144,10 @@ struct Tree {
   Tree(std::size_t n, std::size_t m, const WeightedEuclidean& metric) : nodes(n, m), nn(metric) {}
   NodeStore nodes;
   NearestNeighbors nn;
-  std::vector<std::uint64_t> applied;          // Ū indices applied from each node (|Ū| <= 64)
+  std::vector<std::uint64_t> applied;              // Ū indices applied from each node (|Ū| <= 64)
   std::unordered_set<std::uint64_t> applied_wide;  // (node, index) pairs when |Ū| > 64
-  std::vector<char> excluded;                  // excluded from selection for samples in S
-  std::vector<double> projected;               // sqrt(w) x of every node, for history = tree
+  std::vector<char> excluded;                      // excluded from selection for samples in S
+  std::vector<double> projected;                   // sqrt(w) x of every node, for history = tree
 };
 
 // One expansion slot: its scratch (propagator, time-to-go and input grid, which all keep mutable
@@ -149,7 +155,10 @@ struct Tree {
 // forest and consumed by commit().
 struct Slot {
   Slot(const System& sys, const WeightedEuclidean& metric, std::span<const double> p, int k)
-      : prop(sys.make_propagator()), t2go(sys, metric, p), U(sys), x_rand(sys.info().dim()),
+      : prop(sys.make_propagator()),
+        t2go(sys, metric, p),
+        U(sys),
+        x_rand(sys.info().dim()),
         neighbors(static_cast<std::size_t>(k)) {
     const Box& box = sys.info().sampling_box;
     for (std::size_t i = 0; i < box.dim(); ++i) uniform.emplace_back(box.lo[i], box.hi[i]);
@@ -494,7 +503,8 @@ class EnhancedSearch {
                           double rho_before) {
     const PropagationResult& r = slot.results[chosen];
     const stl::PrefixBounds& b = slot.stl->finish_with(t.nodes, near, slot.rows[chosen]);
-    if (!stl::EdgeMonitor::violated(b)) lowest_upper_ = std::min(lowest_upper_, b.upper);  // a violation: once confirmed
+    if (!stl::EdgeMonitor::violated(b))
+      lowest_upper_ = std::min(lowest_upper_, b.upper);  // a violation: once confirmed
     const NodeId id = add_node(t, near, slot.q, r.mode, x_new, slot.U.input(chosen), r.duration, r.transition,
                                slot.stl->state(), !stl::EdgeMonitor::settled(b) && !stl::EdgeMonitor::violated(b));
     const bool successful = metric_.distance(x_new, slot.x_rand) < rho_before;
@@ -559,7 +569,8 @@ class EnhancedSearch {
           slot.t2go_buf[i] = slot.t2go(t.nodes.info(ids[i]).mode, t.nodes.state(ids[i]), x_rand);
           any = any || std::isfinite(slot.t2go_buf[i]);
         }
-        if (any) std::copy(slot.t2go_buf.begin(), slot.t2go_buf.end(), dist.begin());  // else rho decides (III.2 remark)
+        if (any)
+          std::copy(slot.t2go_buf.begin(), slot.t2go_buf.end(), dist.begin());  // else rho decides (III.2 remark)
       }
       const std::size_t best = argmin_history_weight(dist, fail);
       return best == kNoCandidate ? kNoNode : ids[best];
@@ -618,10 +629,10 @@ class EnhancedSearch {
   NamedSeries coverage_series_{"coverage", {}}, beta_series_{"beta", {}};
   std::deque<Tree> forest_;  // trees never move (their NN index points into their own storage)
   PlannerOutcome out_;
-  std::int64_t refused_ = 0;  // STL: violating nodes the witness validator refused
+  std::int64_t refused_ = 0;                                       // STL: violating nodes the witness validator refused
   double lowest_upper_ = std::numeric_limits<double>::infinity();  // STL: the lowest upper bound of any node
-  std::int64_t iteration_ = 0;  // Alg. 3's iteration count (one per slot committed)
-  bool stopped_ = false;        // a stop rule ended the search between two commits
+  std::int64_t iteration_ = 0;                                     // Alg. 3's iteration count (one per slot committed)
+  bool stopped_ = false;                                           // a stop rule ended the search between two commits
 };
 
 class EnhancedRrt final : public Planner {
@@ -638,27 +649,30 @@ class EnhancedRrt final : public Planner {
 }  // namespace
 
 MethodEntry enhanced_rrt_method() {
-  return {"enhanced-rrt",
-          "enhanced RRT of seed 000 (Alg. 3-4): t2go selection, history weighting, adaptive bias, "
-          "coverage stop; every option off = baseline RRT",
-          {{"selection", "metric", "x_near and u_new by the metric (metric) or time-to-go (t2go, III.2)", "metric|t2go"},
-           {"k", 10, "candidates (nearest by the metric) for t2go and history=knn", "[1, 1000]"},
-           {"history", "none", "history weighting H (III.3): none, tree (whole tree) or knn (k nearest)", "none|tree|knn"},
-           {"sampling", "uniform", "x_rand: uniform, medium (β=0.5), heavy (β=1) or adaptive (III.5-7)", "uniform|medium|heavy|adaptive"},
-           {"sigma_min", 0.05, "σ_min of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
-           {"sigma_max", 0.5, "σ_max of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
-           {"n_s", 50, "N_s: iterations between β updates (III.5)", "[1, 1000000]"},
-           {"beta_counts", "run", "n_s, n_β of (III.5) over the whole search (run) or the last N_s iterations (window)",
-            "run|window"},
-           {"coverage_window", 0, "N of the secondary stop: stop when c gains < delta_c_min over N nodes (0: off)", "[0, 100000000]"},
-           {"delta_c_min", 1e-4, "Δc_min of the secondary stop", "[0, 1]"},
-           {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded", "[1, inf)"},
-           {"series_every", 100, "nodes between points of the coverage series", "[1, 100000000]"},
-           {"t2go_inputs", true, "with selection=t2go, also pick u_new by t2go (Alg. 4); false: by the metric"},
-           {"record_failed_extensions", false, "store the sorted n_j of the final tree (Fig. 6) as a series"},
-           batch_option()},
-          [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o), o.at("batch").get<std::size_t>()); },
-          [](const System& sys, const Json& o) { check_enhanced_system(sys, parse_options(o)); }};
+  return {
+      "enhanced-rrt",
+      "enhanced RRT of seed 000 (Alg. 3-4): t2go selection, history weighting, adaptive bias, "
+      "coverage stop; every option off = baseline RRT",
+      {{"selection", "metric", "x_near and u_new by the metric (metric) or time-to-go (t2go, III.2)", "metric|t2go"},
+       {"k", 10, "candidates (nearest by the metric) for t2go and history=knn", "[1, 1000]"},
+       {"history", "none", "history weighting H (III.3): none, tree (whole tree) or knn (k nearest)", "none|tree|knn"},
+       {"sampling", "uniform", "x_rand: uniform, medium (β=0.5), heavy (β=1) or adaptive (III.5-7)",
+        "uniform|medium|heavy|adaptive"},
+       {"sigma_min", 0.05, "σ_min of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
+       {"sigma_max", 0.5, "σ_max of (III.7), as a fraction of the sampling-box width", "(0, 10]"},
+       {"n_s", 50, "N_s: iterations between β updates (III.5)", "[1, 1000000]"},
+       {"beta_counts", "run", "n_s, n_β of (III.5) over the whole search (run) or the last N_s iterations (window)",
+        "run|window"},
+       {"coverage_window", 0, "N of the secondary stop: stop when c gains < delta_c_min over N nodes (0: off)",
+        "[0, 100000000]"},
+       {"delta_c_min", 1e-4, "Δc_min of the secondary stop", "[0, 1]"},
+       {"coverage_at", 5000, "node count at which the metric 'coverage' is recorded", "[1, inf)"},
+       {"series_every", 100, "nodes between points of the coverage series", "[1, 100000000]"},
+       {"t2go_inputs", true, "with selection=t2go, also pick u_new by t2go (Alg. 4); false: by the metric"},
+       {"record_failed_extensions", false, "store the sorted n_j of the final tree (Fig. 6) as a series"},
+       batch_option()},
+      [](const Json& o) { return std::make_unique<EnhancedRrt>(parse_options(o), o.at("batch").get<std::size_t>()); },
+      [](const System& sys, const Json& o) { check_enhanced_system(sys, parse_options(o)); }};
 }
 
 }  // namespace hyfal

@@ -1,7 +1,7 @@
 #pragma once
 #include <vector>
 
-#include "core/planner.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 

@@ -50,7 +50,7 @@
 //    layer (leads, D_avail, t(D), cov(D), the outer loop of Alg. 2); the motion-planning step
 //    varies: SequentialStep (batch = 1) or BatchStep, both built from HydiceSearch's draw /
 //    propagate / commit phases.
-//  - Batches (`batch` = B > 1, core/parallel_slots.hpp): one round = B motion steps toward the
+//  - Batches (`batch` = B > 1, core/search/parallel_slots.hpp): one round = B motion steps toward the
 //    current lead's D_avail (or, without leads, every reached region). The selection weights
 //    w_sel (t(D), cov(D)) are those of the round's start; in slot order, slot s draws its region,
 //    coverage cell (the cell's selection count grows as each slot selects, as in the sequential
@@ -60,7 +60,7 @@
 //    commit in slot order (t(D) counts, nodes, coverage cells; the first slot reaching the
 //    unsafe set wins; the node cap is checked before each commit, so it is exact), each as soon
 //    as it has run, while later slots may still be propagating (SlotRounds: a helper thread
-//    stands by between rounds, core/parallel_slots.hpp). A round counts B motion steps
+//    stands by between rounds, core/search/parallel_slots.hpp). A round counts B motion steps
 //    toward t_σ. Leads, D_avail and the random paths keep using the trial's stream Rng(seed);
 //    rounds are numbered over the whole trial.
 //    With batches the lead search is pipelined (issue 12 item 5): lead k + 1 is searched while
@@ -103,10 +103,11 @@
 
 #include <fmt/format.h>
 
-#include "core/inputs.hpp"
-#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
-#include "core/tree.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/input_grid.hpp"
+#include "core/search/node_store.hpp"
+#include "core/search/parallel_slots.hpp"
 
 namespace hyfal {
 
@@ -139,7 +140,8 @@ void RegionSlots::attach(const Decomposition& d) {
     if (dense_) pages_.resize(static_cast<std::size_t>((d.dense_size() + kPageMask) >> kPageBits));
     // Open addressing starts at 2^12 slots (64 KB) and doubles at load 1/2: the start only saves
     // the first few doublings (a navigation lead search touches 10^3-10^6 regions).
-    else table_.assign(std::size_t{1} << 12, HashSlot{});
+    else
+      table_.assign(std::size_t{1} << 12, HashSlot{});
   }
   clear();
 }
@@ -327,14 +329,14 @@ std::vector<RegionId> LeadSearch::find(const Decomposition& d, std::span<const R
 }
 
 std::vector<RegionId> hydice_lead(const Decomposition& d, std::span<const RegionId> starts,
-                                  const std::function<double(RegionId)>& weight, Rng* rng,
-                                  double heuristic_edge_cost, std::size_t max_expanded) {
+                                  const std::function<double(RegionId)>& weight, Rng* rng, double heuristic_edge_cost,
+                                  std::size_t max_expanded) {
   LeadSearch search;
   return search.find(d, starts, weight, rng, heuristic_edge_cost, max_expanded);
 }
 
-std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
-                                       const std::function<bool(RegionId)>& reached, Rng& rng) {
+std::vector<RegionId> hydice_available(std::span<const RegionId> lead, const std::function<bool(RegionId)>& reached,
+                                       Rng& rng) {
   std::vector<RegionId> avail;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (std::size_t i = lead.size(); i-- > 0;) {
@@ -381,14 +383,16 @@ std::size_t pick_by_inverse_square(std::size_t count, Selections&& selections, U
 namespace {
 template <class Urbg>
 std::size_t hydice_pick_weighted_by(std::span<const double> w, Urbg& rng) {
-  return pick_weighted_by(w.size(), [&](std::size_t i) { return w[i]; }, rng);
+  return pick_weighted_by(
+      w.size(), [&](std::size_t i) { return w[i]; }, rng);
 }
 }  // namespace
 
 std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng) { return hydice_pick_weighted_by(w, rng); }
 
 std::size_t hydice_pick_cell(std::span<const std::uint32_t> selections, Rng& rng) {
-  return pick_by_inverse_square(selections.size(), [&](std::size_t i) { return selections[i]; }, rng);
+  return pick_by_inverse_square(
+      selections.size(), [&](std::size_t i) { return selections[i]; }, rng);
 }
 
 namespace {
@@ -414,7 +418,7 @@ struct HydiceOptions {
   HydiceExponents e;
 };
 
-// `o` is resolved against the declared options (core/options.hpp checks types and ranges).
+// `o` is resolved against the declared options (core/run/option_spec.hpp checks types and ranges).
 HydiceOptions parse_options(const Json& o, bool leads) {
   HydiceOptions h{};
   h.leads = leads;
@@ -424,10 +428,14 @@ HydiceOptions parse_options(const Json& o, bool leads) {
   h.controls = o.at("controls").get<std::int64_t>();
   h.batch = o.at("batch").get<std::int64_t>();
   const std::string inputs = o.at("inputs").get<std::string>();
-  if (inputs == "auto") h.inputs = HydiceOptions::Inputs::automatic;
-  else if (inputs == "set") h.inputs = HydiceOptions::Inputs::set;
-  else if (inputs == "box") h.inputs = HydiceOptions::Inputs::box;
-  else throw std::invalid_argument(fmt::format("hydice: inputs must be auto, set or box (got '{}')", inputs));
+  if (inputs == "auto")
+    h.inputs = HydiceOptions::Inputs::automatic;
+  else if (inputs == "set")
+    h.inputs = HydiceOptions::Inputs::set;
+  else if (inputs == "box")
+    h.inputs = HydiceOptions::Inputs::box;
+  else
+    throw std::invalid_argument(fmt::format("hydice: inputs must be auto, set or box (got '{}')", inputs));
   if (leads) {  // HyDICE[NoLeads] has no lead options: t_sigma etc. stay unused
     h.t_sigma = o.at("t_sigma").get<std::int64_t>();
     h.shortest_probability = o.at("shortest_probability").get<double>();
@@ -441,11 +449,12 @@ void check_hydice_system(const System& sys, const Json&) {
   // HyDICE's leads run to the decomposition's unsafe regions: an STL requirement names no region
   // to reach (its violation is a property of a whole trace), so HyDICE searches reachability only.
   if (sys.info().requirement)
-    throw std::invalid_argument("HyDICE needs target regions, which an STL requirement does not give "
-                                "(use rrt, rrt-dstar, rrft or enhanced-rrt; or requirement= empty for the unsafe set)");
+    throw std::invalid_argument(
+        "HyDICE needs target regions, which an STL requirement does not give "
+        "(use rrt, rrt-dstar, rrft or enhanced-rrt; or requirement= empty for the unsafe set)");
   if (!sys.decomposition())
-    throw std::invalid_argument(fmt::format("suite '{}' provides no region decomposition, which HyDICE needs",
-                                            sys.info().suite));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' provides no region decomposition, which HyDICE needs", sys.info().suite));
 }
 
 struct CellKey {
@@ -455,8 +464,8 @@ struct CellKey {
 };
 struct CellKeyHash {
   std::size_t operator()(const CellKey& k) const {
-    return static_cast<std::size_t>(splitmix64(k.region ^ splitmix64(static_cast<std::uint64_t>(k.ix) ^
-                                                                     splitmix64(static_cast<std::uint64_t>(k.iy)))));
+    return static_cast<std::size_t>(splitmix64(
+        k.region ^ splitmix64(static_cast<std::uint64_t>(k.ix) ^ splitmix64(static_cast<std::uint64_t>(k.iy)))));
   }
 };
 
@@ -468,7 +477,7 @@ struct Cell {
 struct RegionData {
   RegionId id = 0;
   double volume = 0.0;
-  std::int64_t propagations = 0;  // t(D) - 1
+  std::int64_t propagations = 0;     // t(D) - 1
   std::vector<std::uint32_t> cells;  // indices into the cell table
   bool available = false;
   bool changed = false;  // t(D) or cov(D) changed since the last snapshot_lead_weights
@@ -489,9 +498,9 @@ class HydiceSearch {
     std::uint32_t region = 0;
     NodeId s = 0;
     Mode q = 0;
-    RegionId selected = 0;  // the region of D_avail drawn
+    RegionId selected = 0;                                                        // the region of D_avail drawn
     std::array<double, 2> target{std::numeric_limits<double>::quiet_NaN(), 0.0};  // steering (NaN: none)
-    std::vector<double> inputs;  // `controls` inputs, m each
+    std::vector<double> inputs;                                                   // `controls` inputs, m each
     // choose()'s scratch, one per draw so that the slots of a batch choose concurrently.
     std::optional<InputGrid> grid;
     std::vector<double> ulo, uhi;
@@ -579,8 +588,10 @@ class HydiceSearch {
       snapshot_lead_weights();
       LeadFound next;
       parallel_slots(2, ctx_.cpu, [&](std::size_t task) {
-        if (task == 0) step.grow(*this, *t_sigma);
-        else next = search_lead(true);
+        if (task == 0)
+          step.grow(*this, *t_sigma);
+        else
+          next = search_lead(true);
       });
       if (out_.trajectory) break;
       t_sigma = adopt_lead(std::move(next));
@@ -645,7 +656,8 @@ class HydiceSearch {
       for (std::size_t i = 0; i < lead.size(); ++i) lead_position_.emplace(lead[i], i);
     current_lead_.swap(lead);
     for (RegionId r : avail_) region(r).available = false;
-    avail_ = hydice_available(current_lead_, [this](RegionId r) { return reached(r); }, rng_);
+    avail_ = hydice_available(
+        current_lead_, [this](RegionId r) { return reached(r); }, rng_);
     for (RegionId r : avail_) region(r).available = true;
     // t_σ: at least t_sigma propagations, more when the lead search was long, so that the
     // discrete search keeps a bounded share of the time (the paper's t_σ is wall time).
@@ -913,7 +925,7 @@ class SequentialStep {
   HydiceSearch::Outcome outcome_;
 };
 
-// The batch motion step (batch = B > 1, core/parallel_slots.hpp): see the header.
+// The batch motion step (batch = B > 1, core/search/parallel_slots.hpp): see the header.
 class BatchStep {
  public:
   BatchStep(const System& sys, const SearchBudget& budget, std::size_t batch) : slots_(batch) {
@@ -1022,8 +1034,14 @@ class Hydice final : public Planner {
 };
 
 std::vector<OptionSpec> exponent_options() {
-  return {{"controls", 1, "inputs drawn per selected state; the end state nearest the next lead region is kept (1: the paper's one random input)", "[1, 1024]"},
-          {"inputs", "auto", "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), auto (as the suite declares: box for navigation's drivers, set otherwise)", "auto|set|box"},
+  return {{"controls", 1,
+           "inputs drawn per selected state; the end state nearest the next lead region is kept (1: the paper's one "
+           "random input)",
+           "[1, 1024]"},
+          {"inputs", "auto",
+           "how an input is drawn: box (uniform over the admissible box), set (a random element of the suite's Ū), "
+           "auto (as the suite declares: box for navigation's drivers, set otherwise)",
+           "auto|set|box"},
           {"nu", 1.0, "ν: exponent of vol in w = vol^ν cov^ζ / t^τ and w_sel = vol^ν / (t^τ cov^ζ)", "[0, 10]"},
           {"zeta", 2.0, "ζ: exponent of cov (coverage cells of the region)", "[0, 10]"},
           {"tau", 0.5, "τ: exponent of t (1 + propagations from the region)", "[0, 10]"},
@@ -1035,10 +1053,11 @@ std::vector<OptionSpec> exponent_options() {
 MethodEntry hydice_method() {
   auto options = exponent_options();
   options.push_back({"t_sigma", 100, "t_σ: propagations per lead (motion-planning step)", "[1, 100000000]"});
-  options.push_back({"shortest_probability", 0.9, "probability that a lead is the shortest path (else a random path)", "[0, 1]"});
-  options.push_back({"lead_heuristic", 1.0, "A* weight on hops_to_unsafe x (cost of an unreached edge); 0 = Dijkstra", "[0, 100]"});
-  return {"hydice",
-          "HyDICE of seed 002 (Alg. 2): leads over the suite's region decomposition guide the motion planner",
+  options.push_back(
+      {"shortest_probability", 0.9, "probability that a lead is the shortest path (else a random path)", "[0, 1]"});
+  options.push_back(
+      {"lead_heuristic", 1.0, "A* weight on hops_to_unsafe x (cost of an unreached edge); 0 = Dijkstra", "[0, 100]"});
+  return {"hydice", "HyDICE of seed 002 (Alg. 2): leads over the suite's region decomposition guide the motion planner",
           std::move(options), [](const Json& o) { return std::make_unique<Hydice>(parse_options(o, true)); },
           check_hydice_system};
 }

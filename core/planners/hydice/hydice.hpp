@@ -1,5 +1,5 @@
 // HyDICE (seed 002 Sect. 3, Alg. 1-3): discrete search over a region decomposition
-// (core/decomposition.hpp) computes leads that guide a sampling-based motion planner.
+// (core/model/decomposition.hpp) computes leads that guide a sampling-based motion planner.
 // The pieces below are exposed for the tests.
 #pragma once
 #include <bit>
@@ -10,9 +10,9 @@
 #include <span>
 #include <vector>
 
-#include "core/decomposition.hpp"
-#include "core/planner.hpp"
-#include "core/rng.hpp"
+#include "core/model/decomposition.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal {
 
@@ -104,8 +104,8 @@ class LeadSearch {
  public:
   // As hydice_lead.
   std::vector<RegionId> find(const Decomposition& d, std::span<const RegionId> starts,
-                             const std::function<double(RegionId)>& weight, Rng* rng,
-                             double heuristic_edge_cost = 0.0, std::size_t max_expanded = 50'000'000);
+                             const std::function<double(RegionId)>& weight, Rng* rng, double heuristic_edge_cost = 0.0,
+                             std::size_t max_expanded = 50'000'000);
   std::size_t expanded() const { return expanded_; }  // regions expanded by the last find
 
  private:
@@ -153,8 +153,8 @@ class LeadSearch {
 
 // D_avail for a lead (Sect. 3.3.1): scanning the lead backwards, each reached region joins
 // with probability 1 / (1 + |D_avail|).
-std::vector<RegionId> hydice_available(std::span<const RegionId> lead,
-                                       const std::function<bool(RegionId)>& reached, Rng& rng);
+std::vector<RegionId> hydice_available(std::span<const RegionId> lead, const std::function<bool(RegionId)>& reached,
+                                       Rng& rng);
 
 // Index i drawn with probability proportional to w[i] (w >= 0, some > 0).
 std::size_t hydice_pick_weighted(std::span<const double> w, Rng& rng);

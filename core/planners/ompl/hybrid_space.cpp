@@ -7,7 +7,7 @@
 
 #include <ompl/util/Console.h>
 
-#include "core/inputs.hpp"
+#include "core/search/input_grid.hpp"
 
 namespace hyfal::ompl_adapter {
 
@@ -73,7 +73,8 @@ void HybridStateSpace::copyState(ob::State* destination, const ob::State* source
 bool HybridStateSpace::equalStates(const ob::State* a, const ob::State* b) const {
   const auto* sa = a->as<StateType>();
   const auto* sb = b->as<StateType>();
-  return sa->mode == sb->mode && sa->admissible == sb->admissible && std::equal(sa->values, sa->values + dim_, sb->values);
+  return sa->mode == sb->mode && sa->admissible == sb->admissible &&
+         std::equal(sa->values, sa->values + dim_, sb->values);
 }
 
 double HybridStateSpace::distance(const ob::State* a, const ob::State* b) const { return metric_.distance(x(a), x(b)); }
@@ -208,8 +209,9 @@ void HybridPropagator::propagate(const ob::State* state, const oc::Control* cont
   Mode q = from->mode;
   std::copy(from->values, from->values + x_.size(), x_.begin());
   NodeId unused = kNoNode;
-  const StepEnd end = from->admissible ? step(q, x_, std::span<const double>(c->values, u_.size()), duration, nullptr, unused)
-                                       : StepEnd::inadmissible;
+  const StepEnd end = from->admissible
+                          ? step(q, x_, std::span<const double>(c->values, u_.size()), duration, nullptr, unused)
+                          : StepEnd::inadmissible;
   std::copy(x_.begin(), x_.end(), to->values);
   to->mode = q;
   to->admissible = end != StepEnd::inadmissible;
@@ -222,7 +224,8 @@ void HybridPropagator::start_replay() const {
 
 // --- goal and decomposition ----------------------------------------------------------------------
 
-UnsafeGoal::UnsafeGoal(const oc::SpaceInformationPtr& si, const HybridStateSpace& space, std::span<const double> parameters)
+UnsafeGoal::UnsafeGoal(const oc::SpaceInformationPtr& si, const HybridStateSpace& space,
+                       std::span<const double> parameters)
     : ob::GoalSampleableRegion(si), space_(space), parameters_(parameters) {}
 
 double UnsafeGoal::distanceGoal(const ob::State* state) const {

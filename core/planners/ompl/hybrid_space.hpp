@@ -56,12 +56,12 @@
 #include <ompl/control/spaces/RealVectorControlSpace.h>
 #include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
 
-#include "core/decomposition.hpp"
-#include "core/model.hpp"
-#include "core/nearest.hpp"
-#include "core/planner.hpp"
-#include "core/rng.hpp"
-#include "core/tree.hpp"
+#include "core/model/decomposition.hpp"
+#include "core/model/system.hpp"
+#include "core/run/planner.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal::ompl_adapter {
 
@@ -176,9 +176,7 @@ class HybridPropagator final : public oc::StatePropagator {
 class AdmissibleStates final : public ob::StateValidityChecker {
  public:
   explicit AdmissibleStates(const oc::SpaceInformationPtr& si) : ob::StateValidityChecker(si) {}
-  bool isValid(const ob::State* state) const override {
-    return state->as<HybridStateSpace::StateType>()->admissible;
-  }
+  bool isValid(const ob::State* state) const override { return state->as<HybridStateSpace::StateType>()->admissible; }
 };
 
 class UnsafeGoal final : public ob::GoalSampleableRegion {

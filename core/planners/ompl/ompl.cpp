@@ -35,7 +35,8 @@
 #include <ompl/control/planners/syclop/SyclopRRT.h>
 
 #include "core/planners/ompl/hybrid_space.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/witness/trajectory.hpp"
 
 namespace hyfal {
 
@@ -138,19 +139,22 @@ bool uses_grid(Kind k) { return k == Kind::syclop_rrt || k == Kind::syclop_est; 
 void check_ompl_system(Kind kind, const System& system) {
   const SystemInfo& info = system.info();
   if (info.requirement)
-    throw std::invalid_argument("OMPL's planners search for a goal region; an STL requirement gives none (use rrt, "
-                                "rrt-dstar, rrft or enhanced-rrt)");
+    throw std::invalid_argument(
+        "OMPL's planners search for a goal region; an STL requirement gives none (use rrt, "
+        "rrt-dstar, rrft or enhanced-rrt)");
   if (info.input_names.empty())
-    throw std::invalid_argument(fmt::format("suite '{}' has no inputs (OMPL's control planners need a control space)", info.suite));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' has no inputs (OMPL's control planners need a control space)", info.suite));
   if (!uses_grid(kind)) return;
   const Decomposition* d = system.decomposition();
   if (!d || !d->state_grid())
-    throw std::invalid_argument(fmt::format(
-        "suite '{}' has no grid decomposition (OMPL's Syclop needs regions that form a grid over two state "
-        "dimensions, Decomposition::state_grid, e.g. navigation's terrains)",
-        info.suite));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' has no grid decomposition (OMPL's Syclop needs regions that form a grid over two state "
+                    "dimensions, Decomposition::state_grid, e.g. navigation's terrains)",
+                    info.suite));
   if (info.goal_point.size() != info.dim())
-    throw std::invalid_argument(fmt::format("suite '{}' has no goal point (Syclop locates the goal region from it)", info.suite));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' has no goal point (Syclop locates the goal region from it)", info.suite));
 }
 
 // The replay of a solution: every step of every control again, each piece a tree node; the
@@ -171,8 +175,10 @@ Trajectory replay(const Problem& problem, const oc::PathControl& path, std::span
     const auto* c = path.getControl(i)->as<oc::RealVectorControlSpace::ControlType>();
     const long steps = std::lround(path.getControlDuration(i) / dt);
     for (long k = 0; k < steps && end != StepEnd::unsafe; ++k) {
-      end = propagator.step(q, x, std::span<const double>(c->values, problem.controls->getDimension()), dt, &tree, leaf);
-      if (end == StepEnd::inadmissible) throw std::logic_error("the replay of OMPL's solution left the admissible states");
+      end =
+          propagator.step(q, x, std::span<const double>(c->values, problem.controls->getDimension()), dt, &tree, leaf);
+      if (end == StepEnd::inadmissible)
+        throw std::logic_error("the replay of OMPL's solution left the admissible states");
     }
   }
   if (end != StepEnd::unsafe) throw std::logic_error("the replay of OMPL's solution did not reach the unsafe set");
@@ -339,11 +345,18 @@ class OmplPlanner final : public Planner {
 // --- declared options ----------------------------------------------------------------------------
 
 std::vector<OptionSpec> step_options() {
-  return {{"min_steps", 1, "a control lasts at least this many propagation steps of the suite's δt (OMPL's min control duration)", "[1, 1000]"},
-          {"max_steps", 10, "a control lasts at most this many propagation steps of δt (OMPL's max control duration; 10 as in OMPL's demos)", "[1, 1000]"}};
+  return {
+      {"min_steps", 1,
+       "a control lasts at least this many propagation steps of the suite's δt (OMPL's min control duration)",
+       "[1, 1000]"},
+      {"max_steps", 10,
+       "a control lasts at most this many propagation steps of δt (OMPL's max control duration; 10 as in OMPL's demos)",
+       "[1, 1000]"}};
 }
 OptionSpec goal_bias_option() {
-  return {"goal_bias", 0.05, "probability of steering toward the suite's goal point instead of a uniform sample (OMPL's goal bias)", "[0, 1]"};
+  return {"goal_bias", 0.05,
+          "probability of steering toward the suite's goal point instead of a uniform sample (OMPL's goal bias)",
+          "[0, 1]"};
 }
 
 OmplOptions parse(Kind kind, const Json& o) {
@@ -378,16 +391,19 @@ MethodEntry ompl_rrt_method() {
 MethodEntry ompl_kpiece_method() {
   auto options = step_options();
   options.push_back(goal_bias_option());
-  return ompl_method("ompl-kpiece",
-                     "OMPL 1.5 control::KPIECE1; projection: the suite's coverage grid, else its decomposition's, else x0, x1",
-                     Kind::kpiece, std::move(options));
+  return ompl_method(
+      "ompl-kpiece",
+      "OMPL 1.5 control::KPIECE1; projection: the suite's coverage grid, else its decomposition's, else x0, x1",
+      Kind::kpiece, std::move(options));
 }
 
 MethodEntry ompl_sst_method() {
   auto options = step_options();
   options.push_back(goal_bias_option());
-  options.push_back({"selection_radius", 0.2, "δ_BN: SST's selection radius, in the suite's metric (OMPL's default)", "[0, inf)"});
-  options.push_back({"pruning_radius", 0.1, "δ_s: SST's pruning (witness) radius, in the suite's metric (OMPL's default)", "[0, inf)"});
+  options.push_back(
+      {"selection_radius", 0.2, "δ_BN: SST's selection radius, in the suite's metric (OMPL's default)", "[0, inf)"});
+  options.push_back({"pruning_radius", 0.1,
+                     "δ_s: SST's pruning (witness) radius, in the suite's metric (OMPL's default)", "[0, inf)"});
   return ompl_method("ompl-sst", "OMPL 1.5 control::SST, stopped at its first solution", Kind::sst, std::move(options));
 }
 

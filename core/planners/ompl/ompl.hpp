@@ -14,7 +14,7 @@
 #pragma once
 #include <vector>
 
-#include "core/planner.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 
@@ -26,6 +26,9 @@ MethodEntry ompl_syclop_est_method();
 
 // This folder's methods, in the order `hyfal list` shows them: the registry's entry
 // (hyfal_planner(ompl) in core/planners/CMakeLists.txt).
-inline std::vector<MethodEntry> ompl_methods() { return {ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(), ompl_syclop_est_method()}; }
+inline std::vector<MethodEntry> ompl_methods() {
+  return {ompl_rrt_method(), ompl_kpiece_method(), ompl_sst_method(), ompl_syclop_rrt_method(),
+          ompl_syclop_est_method()};
+}
 
 }  // namespace hyfal

@@ -16,14 +16,14 @@
 // requirement's (its formula's) unless the option `horizon` says otherwise. The decision vector
 // is (u_1 of piece 1, ..., u_m of piece 1, u_1 of piece 2, ...), bounded by the input box U_q of
 // the initial mode; with `input_shape = linear` it is the K + 1 control points of a signal linear
-// between multiples of δt (u at 0, then u at the end of each piece: core/signal_search.hpp); where
+// between multiples of δt (u at 0, then u at the end of each piece: core/planners/signal_search.hpp); where
 // the system's parameters P have width, the vector begins with p (bounded by P). A
-// simulation is stl::simulate_inputs (core/requirements/simulate.hpp), sampled
+// simulation is stl::simulate_inputs (core/simulate/input_simulator.hpp), sampled
 // as the tree searches sample; its robustness stl::trace_robustness. Seeds: from the trial seed
 // (pagmo's and the restarts' streams), evaluations in sequence: the same result at any thread
 // count. The witness is the falsifying signal replayed (stl::trajectory_of_inputs) and validated
 // like every other; the search stops only at a negative robustness the validator confirms (a
-// refused candidate, within the integration error of 0, lets it go on): core/signal_search.hpp,
+// refused candidate, within the integration error of 0, lets it go on): core/planners/signal_search.hpp,
 // which FalStar's adaptive search (core/planners/adaptive/) shares.
 #include "core/planners/optimizers/optimizers.hpp"
 
@@ -44,11 +44,14 @@
 #include <pagmo/utils/generic.hpp>
 #include <random>
 
-#include "core/parallel_slots.hpp"
+#include "core/planners/signal_search.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/rng.hpp"
-#include "core/signal_search.hpp"
+#include "core/requirements/trace_monitor.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/parallel_slots.hpp"
+#include "core/simulate/input_simulator.hpp"
+#include "core/util/rng.hpp"
+#include "core/witness/trajectory.hpp"
 
 namespace hyfal {
 
@@ -57,7 +60,7 @@ namespace {
 enum class Optimizer { random, annealing, cmaes, nelder_mead };
 
 // The robustness of the signal a decision vector encodes, counted against the budget
-// (core/signal_search.hpp: the simulations, their count and the validator's confirmation).
+// (core/planners/signal_search.hpp: the simulations, their count and the validator's confirmation).
 class RobustnessObjective {
  public:
   RobustnessObjective(const PlannerContext& ctx, std::int64_t budget, double horizon, InputShape shape)
@@ -92,8 +95,8 @@ class RobustnessObjective {
   // so the result does not depend on how many are evaluated at once (barring a deadline).
   void evaluate_batch(const std::vector<std::vector<double>>& xs) {
     simulations_.check_budget();
-    const auto n = static_cast<std::size_t>(std::min<std::int64_t>(static_cast<std::int64_t>(xs.size()),
-                                                                   simulations_.remaining()));
+    const auto n = static_cast<std::size_t>(
+        std::min<std::int64_t>(static_cast<std::int64_t>(xs.size()), simulations_.remaining()));
     simulations_.reserve(n);
     parallel_slots(n, ctx_.cpu, [&](std::size_t i) {
       SignalSlot& slot = simulations_.slot(i);
@@ -131,7 +134,9 @@ class RobustnessObjective {
 struct PagmoProblem {
   RobustnessObjective* objective = nullptr;
   pagmo::vector_double fitness(const pagmo::vector_double& x) const { return {(*objective)(x)}; }
-  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return {objective->lo(), objective->hi()}; }
+  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
+    return {objective->lo(), objective->hi()};
+  }
 };
 
 struct OptimizerOptions {
@@ -152,10 +157,18 @@ class OptimizationFalsifier final : public Planner {
     Rng rng(ctx.seed);
     try {
       switch (o_.kind) {
-        case Optimizer::random: search_random(objective, rng, o_.batch); break;
-        case Optimizer::annealing: search_annealing(objective, rng); break;
-        case Optimizer::cmaes: search_cmaes(objective, rng); break;
-        case Optimizer::nelder_mead: search_nelder_mead(objective, rng); break;
+        case Optimizer::random:
+          search_random(objective, rng, o_.batch);
+          break;
+        case Optimizer::annealing:
+          search_annealing(objective, rng);
+          break;
+        case Optimizer::cmaes:
+          search_cmaes(objective, rng);
+          break;
+        case Optimizer::nelder_mead:
+          search_nelder_mead(objective, rng);
+          break;
       }
     } catch (const SearchOver& over) {
       return objective.outcome(over.status);
@@ -192,7 +205,8 @@ class OptimizationFalsifier final : public Planner {
   // Population 4 + 3 ln(n) (Hansen's default), bounds enforced, restarts on convergence.
   static void search_cmaes(RobustnessObjective& f, Rng& rng) {
     const pagmo::problem prob{PagmoProblem{&f}};
-    const auto size = static_cast<unsigned>(std::max(5.0, 4.0 + std::floor(3.0 * std::log(static_cast<double>(f.dim())))));
+    const auto size =
+        static_cast<unsigned>(std::max(5.0, 4.0 + std::floor(3.0 * std::log(static_cast<double>(f.dim())))));
     while (true) {
       pagmo::population pop(prob, size, seed_of(rng));
       const pagmo::cmaes algo(10000u, -1, -1, -1, -1, 0.3, 1e-9, 1e-9, false, true, seed_of(rng));
@@ -244,13 +258,15 @@ class OptimizationFalsifier final : public Planner {
 };
 
 void check_optimizer_system(const System& system, const Json& options) {
-  check_signal_system(system, options.at("horizon").get<double>(), input_shape_of(options.at("input_shape").get<std::string>()));
+  check_signal_system(system, options.at("horizon").get<double>(),
+                      input_shape_of(options.at("input_shape").get<std::string>()));
 }
 
 MethodEntry optimizer_method(std::string name, std::string description, Optimizer kind) {
-  std::vector<OptionSpec> options{{"budget", 1500, "simulations per run (ARCH-COMP: 1500)", "[1, 100000000]"},
-                                  {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
-                                  input_shape_option()};
+  std::vector<OptionSpec> options{
+      {"budget", 1500, "simulations per run (ARCH-COMP: 1500)", "[1, 100000000]"},
+      {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
+      input_shape_option()};
   // Only uniform random draws its candidates independently of their values; pagmo 2.18's CMA-ES
   // has no batch evaluator (cmaes::set_bfe came in 2.19), annealing and Nelder-Mead are sequential.
   if (kind == Optimizer::random)
@@ -258,14 +274,18 @@ MethodEntry optimizer_method(std::string name, std::string description, Optimize
                        "B: simulations evaluated at once, in parallel on the run's threads (the same draws in the same "
                        "order: results and counts as at B = 1, only faster)",
                        "[1, 4096]"});
-  return {std::move(name), std::move(description), std::move(options),
+  return {std::move(name),
+          std::move(description),
+          std::move(options),
           [kind](const Json& o) {
             return std::make_unique<OptimizationFalsifier>(
                 OptimizerOptions{kind, o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(),
                                  o.contains("batch") ? o.at("batch").get<std::size_t>() : 1,
                                  input_shape_of(o.at("input_shape").get<std::string>())});
           },
-          check_optimizer_system, true, /*searches_parameters=*/true};
+          check_optimizer_system,
+          true,
+          /*searches_parameters=*/true};
 }
 
 }  // namespace

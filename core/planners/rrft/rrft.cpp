@@ -1,157 +1,42 @@
-// RRFT — Rapidly-exploring Random Forest of Trees (seed 003, Sect. 4-5, Alg. 3).
+// RRFT — Rapidly-exploring Random Forest of Trees (seed 003, Sect. 4-5, Alg. 3): one RRT per seed
+// p_i of P̄ (a Halton sequence over the parameter box P), each extended by the step of
+// core/planners/rrt/rrt_extension.hpp with p_i as its parameters, trees ended on growth or
+// coverage and replaced while the seeds' dispersion µ(P̄) is above µ̄, then restarted at seeds not
+// yet covered (issue 27).
 //
-// Seeds. P̄ starts with the first n_t points of a Halton sequence over the parameter box P
-// (core/samplers/halton.hpp; optionally Cranley–Patterson shifted per trial, `shift`). Tree T_i is
-// an RRT rooted at (x0, q0) that uses its seed p_i as the parameter vector of every propagation,
-// of the specification s(x, q; p_i) and of its witness (Trajectory::parameters = p_i). A
-// 0-dimensional P (or one with no axis of non-zero width) gives a single tree with the suite's
-// parameters: there is nothing to search, µ(P̄) = 0.
+// Invariants: results are identical at any thread count (the trees advance in rounds, everything
+// that couples them happens at the round barrier in seed order, and every stream derives from the
+// trial seed, the seed index and the restart count); the forest never holds more than max_nodes
+// nodes (per-round node quotas); batch = 1 is Alg. 3's round of K sequential extensions.
 //
-// Extension. x_rand uniform over the sampling box from the tree's own random stream, seeded from
-// (trial seed, seed index) only; then the one RRT extension step of
-// core/planners/rrt/rrt_extension.hpp, the same as rrt's (nearest node by the metric, the input
-// of Ū(x_near) — Ū mapped onto the admissible box at x_near — whose propagation over δt ends
-// nearest x_rand; an extension where no input makes progress adds nothing).
-//
-// Rounds (determinism at any thread count). The active trees are advanced in rounds: each gets
-// K extension attempts per round, as one oneTBB task (inside an isolated region, so a waiting
-// thread never picks up another trial). Everything that couples the trees
-// happens at the round barrier, in seed order: the "found" check (a tree that reaches s <= 0
-// stops its round; when several did, the lowest seed index wins — with K = 1 this is exactly the
-// order of Alg. 3's for-loop), terminations, plantings, the budget. The node cap is exact:
-// before a round each tree gets a node quota min(K, what the cap leaves after the trees before
-// it), so the forest never holds more than max_nodes nodes. Each task body runs through the
-// trial's TrialCpuClock, so that cpu_s includes the helping threads; the tasks synchronize
-// through a mutex (run-ahead, below) or parallel_slots (batches), both visible to
-// ThreadSanitizer (Debian's libtbb is not instrumented, so its own hand-offs are invisible to it).
-//
-// Run-ahead (batch = 1; issue 12: no core idles at a barrier while another tree has work). A
-// tree's round depends only on its own state, stream and node quota, and so does its own
-// termination test (stalled, not growing, fully grown: functions of its coverage grid and
-// failed streak). So a tree need not wait for the barrier of its round before it starts its next
-// one: a task grows one round of one tree, records what the barrier will need (its counters,
-// series lengths, series point, found, termination decision: RoundEnd), and, unless the tree
-// found s <= 0 or its test says it ends, starts the tree's next round at once. The barrier of
-// round r is passed (by whichever task finishes the last round r) when every active tree has
-// finished round r, from those records: the found check, terminations, plantings and the budget
-// exactly as above. A tree may run at most kRunAhead rounds past the next barrier, and only while
-// the node cap is far enough (what is left >= (rounds ahead + 1) · n_t · (K + 1), so that every
-// quota of those rounds is K, as lockstep would give); near the cap the trees fall back to
-// lockstep rounds with exact quotas. When the search ends at round R, the rounds trees ran
-// past R are thrown away: counters and series as of R (their propagations are not counted).
-// Results are identical to lockstep rounds at any thread count (pinned by a test).
-//
-// Batches (`batch` = B > 1, core/parallel_slots.hpp). A round gives every active tree B
-// expansion slots instead of K sequential attempts: slot s of tree T_i in round r draws x_rand
-// from its own stream slot_seed(T_i's stream seed, r, s) and proposes an extension against T_i
-// as it was at the round's start (RrtExtension::propose: nearest node, every input of Ū
-// propagated). All (tree, slot) pairs of the round run in ONE parallel_slots call, so the cores
-// balance over slots (a few microseconds to a millisecond each) rather than over whole trees, and
-// no core waits at the barrier for a tree that still has K sequential extensions to make. At the
-// barrier each tree commits its slots in slot order (RrtExtension::commit: selection and failure
-// counts, the new node), up to its node quota, stopping at its first node with s <= 0; then the
-// found check, terminations and plantings as above, in seed order. Every propagation the round
-// made is counted. The failed streak counts failed commits. Results depend on B, never on the
-// number of threads; B = 1 is the round of K sequential extensions above, with each tree's one
-// stream (pinned by a test).
-//
-// Coverage convention. Each tree has a CoverageGrid on the suite's coverage grid (n_g points,
-// spacing δ). Seed 003's eq. (3) c(T) = 1/(n_g δ) Σ_j min(d_j, δ) FALLS from 1 to 0 as the tree
-// grows; core/coverage.hpp calls it D(T) = uncovered() (its coverage() is seed 000's 1 - D). So:
-//   "fully grown" (c(T) <= c̄ in the paper)   is   D(T) <= c_min,
-//   g(T) = -dD/dn_v, the finite difference over the last `window` nodes of the tree,
-//   "not growing" (g(T) <= ḡ)                is   n_g · g(T) <= g_min, evaluated once the tree
-//                                                 has more than `window` nodes.
-// The growth is scaled by n_g so that ḡ does not depend on the grid size: n_g·g is the coverage
-// gained per node in grid points' worth; a node in untouched space gains about π/3 ≈ 1 (in 2-D
-// and 3-D alike), a node refining an already dense region almost 0. A tree whose last `window`
-// extension attempts all failed (no input made progress) is stalled (below).
-//
-// Stalls (issue 27). A stall is not one of Alg. 3's termination criteria: g(T) is the coverage
-// gained per NODE, and a tree that adds no node says nothing about it (a tree of 12 nodes whose
-// nearest node to most samples is a dead end stalls, though its reachable set is barely
-// explored; rrt, with the same extension step, goes on and falsifies). So a stalled tree is not
-// concluded: it gives up its slot and is parked with its nodes, its stream and its series, and
-// resumes where it stopped (failed streak reset) when it gets a slot again.
-//
-// Restarts (issue 27). The growth stop (n_g·g(T) <= g_min) ends a TREE, not the search: it says
-// that this tree's nodes now mostly refine what it already reached, not that nothing reachable
-// from its seed is unsafe (with a 0-dimensional P, or once P̄ is dispersed, Alg. 3 plants no new
-// seed, and a forest whose trees all stopped growing used to end not_found after a few hundred
-// nodes where rrt and hydice falsify). A free slot goes, in this order, to
-//   plant    a new Halton seed, while Alg. 3 plants one (µ(P̄) > µ̄, fewer than max_seeds);
-//   resume   the parked (stalled) tree that has waited longest;
-//   restart  a new tree at a seed already in P̄, grown from (x0, q0) with a fresh stream derived
-//            from the trial seed and the restart count only (so results do not depend on the
-//            thread count or on batch timing). Its seed: among the seeds whose trees all
-//            stopped growing (none fully grown, none active or parked), the one whose trees
-//            hold the fewest nodes so far, ties by the lowest index, so restarts spread over
-//            the least explored seeds. A 0-dimensional P restarts its one seed. A restarted
-//            tree is a tree like any other (series tree<i>, nodes_per_tree, its own
-//            termination test); winning_seed names its seed in P̄, not the tree.
-// Coverage is the search's completeness criterion: a seed whose tree is fully grown (D(T) <=
-// c_min) is never restarted, and the search ends not_found only when no tree is active or
-// parked and nothing may be planted or restarted: P̄ dispersed (µ(P̄) <= µ̄) or max_seeds planted,
-// and every seed's reachable set covered by one of its trees. Otherwise it runs until falsified
-// or the budget (timeout, node_cap; a planting or restart refused by the node cap ends it
-// node_cap). With the default thresholds a tree rarely ends fully grown: on navigation,
-// aircraft (random, N = 10) and thermostat the trees stopped growing at D(T) = 0.6-0.99, the
-// sampling boxes being mostly unreachable or far larger than a few hundred nodes cover. So in
-// practice RRFT, like rrt, runs until it falsifies or its budget ends; not_found needs a
-// reachable set its trees can cover (test_rrft's grid walk ends not_found after one tree).
-//
-// Planting. After the terminations of a round, while fewer than n_t trees are active, fewer than
-// max_seeds were planted, the node cap is not reached and µ(P̄) > µ̄, the next Halton point is
-// appended to P̄ and a tree is planted there (Alg. 3: one new tree per terminated one). µ(P̄) is the
-// dispersion of eq. (2) over P in normalized coordinates divided by µ_max = the diameter of the
-// normalized box (so µ in [0, 1]; exact for a 1-D P). The search ends falsified, not_found (the
-// coverage criterion above), timeout or node_cap (over the total nodes of the forest).
-//
-// Defaults (for the papers' examples: P of 1-3 dimensions, grids of 10^3-10^6 points):
-//   n_t = 4      maximum active trees: the paper plants 3 initial seeds for 5 aircraft, and
-//                "n_t is dictated by the number of CPUs"; 4 keeps a 2-4 core machine busy.
-//   K = 10       extensions per tree per round: rounds cost one task spawn/join per tree, so
-//                K = 10 amortizes it while keeping the trees' interleaving close to Alg. 3's.
-//   window = 200 nodes of the finite difference g: long enough to average out single nodes that
-//                happen to land in a gap, short next to the ~10^4 nodes of the papers' runs.
-//   g_min = 0.01 a tree is "not growing" when its nodes add on average 1 % of what a node in
-//                untouched space adds (ḡ = 1e-10 in the paper is on its own unnormalized scale;
-//                a raw 1e-10 would never stop a tree, since refining keeps g > 0 for a long time).
-//   c_min = 0.05 "fully grown": grid points lie on average within 5 % of δ of the tree.
-//   mu_min = 0.1 P is "covered" when no point of P is farther than 10 % of P's diameter from a
-//                seed: 15 seeds for a 1-D P (the paper found its counterexamples at 5 and 8).
-//   max_seeds = 64 a hard cap on the trees of one trial, whatever the dimension of P.
-// Recorded: metrics seeds_planted (|P̄|), trees (planted and restarted), restarts,
-// nodes_per_tree, winning_seed (its index in P̄; -1: none), winning_parameter, dispersion_final,
-// terminated_growth / _coverage, terminated_stalled (stalls: times a tree was parked, several per
-// tree possible), rounds; series
-// coverage/tree<i> (D(T), i.e. seed 003's c(T), against the tree's nodes), growth/tree<i>
-// (n_g·g(T) against the tree's nodes), dispersion (µ(P̄) against the forest's total nodes, one
-// point per planting); counters over the whole forest.
+// The conventions (coverage D(T) = seed 003's c(T), the scaled growth n_g·g), the run-ahead rounds,
+// the batches, stalls, restarts, planting and the defaults with their reasons are written out in
+// docs/methods.md, "RRFT in detail".
 #include "core/planners/rrft/rrft.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <mutex>
-#include <functional>
 #include <optional>
 #include <random>
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <oneapi/tbb/task_group.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
-#include "core/coverage.hpp"
-#include "core/nearest.hpp"
-#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
-#include "core/rng.hpp"
-#include "core/samplers/halton.hpp"
-#include "core/tree.hpp"
-#include "core/trial_cpu.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/coverage_grid.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
+#include "core/search/parallel_slots.hpp"
+#include "core/search/samplers/halton.hpp"
+#include "core/util/rng.hpp"
+#include "core/util/trial_cpu_clock.hpp"
 
 namespace hyfal {
 
@@ -192,10 +77,10 @@ enum class TreeEnd { active, growth, coverage, stalled };
 
 // The point record_point() adds to a tree's coverage/growth series for its current size.
 struct SeriesPoint {
-  double n = 0.0;          // the tree's nodes
-  double uncovered = 1.0;  // D(T)
+  double n = 0.0;           // the tree's nodes
+  double uncovered = 1.0;   // D(T)
   bool has_growth = false;  // more than `window` nodes: n_g·g(T) is defined
-  double growth = 0.0;     // n_g·g(T)
+  double growth = 0.0;      // n_g·g(T)
 };
 
 // What the barrier of a round needs from one tree, taken by the tree itself when it finishes the
@@ -274,13 +159,14 @@ struct ForestTree {
 // g(T) and D(T) (seed 003 eq. 3) are measured on the suite's coverage grid.
 void check_rrft_system(const System& sys, const Json& options) {
   if (!(sys.info().coverage.spacing > 0.0))
-    throw std::invalid_argument(fmt::format("suite '{}' defines no coverage grid, which RRFT needs for c(T), g(T)",
-                                            sys.info().suite));
+    throw std::invalid_argument(
+        fmt::format("suite '{}' defines no coverage grid, which RRFT needs for c(T), g(T)", sys.info().suite));
   if (options.contains("budget") && options.at("budget").get<std::int64_t>() > 0) {
     const auto& requirement = sys.info().requirement;
     if (!requirement || !(std::isfinite(requirement->formula.horizon()) && requirement->formula.horizon() > 0.0))
-      throw std::invalid_argument("budget > 0 needs an STL requirement of finite, positive horizon (simulations are "
-                                  "simulated time / the horizon): --set requirement=...");
+      throw std::invalid_argument(
+          "budget > 0 needs an STL requirement of finite, positive horizon (simulations are "
+          "simulated time / the horizon): --set requirement=...");
   }
 }
 
@@ -379,7 +265,8 @@ class ForestSearch {
   // Alg. 3's planting: a new tree at the next seed of P̄ (the suite's parameters when P is not
   // searched), with the seed's own stream.
   void plant() {
-    std::vector<double> p = searched_ ? halton_.next() : std::vector<double>(ctx_.parameters.begin(), ctx_.parameters.end());
+    std::vector<double> p =
+        searched_ ? halton_.next() : std::vector<double>(ctx_.parameters.begin(), ctx_.parameters.end());
     seeds_.push_back(std::move(p));
     const std::size_t seed = seeds_.size() - 1;
     add_tree(seed, stream_seed(0x52524654'00000000ULL + seed));  // "RRFT"
@@ -480,7 +367,7 @@ class ForestSearch {
         continue;
       }
       ++terminated_[static_cast<int>(t->end)];
-      record_point(*t, point_of(*t));  // a terminated tree stopped at this round
+      record_point(*t, point_of(*t));    // a terminated tree stopped at this round
       if (t->end == TreeEnd::stalled) {  // not concluded: it keeps its nodes and waits for a slot
         parked_.push_back(t);
         continue;
@@ -674,8 +561,8 @@ class ForestSearch {
   // One batched round (batch = B > 1): every active tree's B slots proposed in one parallel_slots
   // call against the frozen trees, then each tree's slots committed in slot order, at most
   // `quota` nodes per tree, stopping at the tree's first node with s <= 0.
-  void grow_batched(const std::vector<ForestTree*>& active, const std::vector<std::int64_t>& quota,
-                    std::uint64_t round, std::vector<std::unique_ptr<RrftSlot>>& slots) const {
+  void grow_batched(const std::vector<ForestTree*>& active, const std::vector<std::int64_t>& quota, std::uint64_t round,
+                    std::vector<std::unique_ptr<RrftSlot>>& slots) const {
     const std::size_t B = o_.batch, n = info_.dim();
     const std::size_t count = active.size() * B;
     while (slots.size() < count) {
@@ -690,7 +577,7 @@ class ForestSearch {
       slot.proposed = false;
       slot.interrupted = false;
       if (quota[i] <= 0 || t.leaf != kNoNode) return;  // nothing this tree may add
-      if (budget_.exhausted(0)) return;                 // time or cancellation
+      if (budget_.exhausted(0)) return;                // time or cancellation
       Rng g(slot_seed(t.stream_seed, round, s));
       for (std::size_t d = 0; d < n; ++d) {
         auto axis = t.uniform[d];  // a copy: distributions are not const-callable
@@ -731,9 +618,9 @@ class ForestSearch {
     if (t.nodes.size() % static_cast<std::size_t>(o_.series_every) == 0) {
       t.coverage_series.points.emplace_back(static_cast<double>(t.nodes.size()), t.grid->uncovered());
       if (t.grid->nodes() > static_cast<std::size_t>(o_.window))
-        t.growth_series.points.emplace_back(static_cast<double>(t.nodes.size()),
-                                            static_cast<double>(t.grid->points()) *
-                                                t.grid->growth(static_cast<std::size_t>(o_.window)));
+        t.growth_series.points.emplace_back(
+            static_cast<double>(t.nodes.size()),
+            static_cast<double>(t.grid->points()) * t.grid->growth(static_cast<std::size_t>(o_.window)));
     }
     if (!r.reached_unsafe) return;
     // An STL violation counts once the witness validator confirms it (rrt_extension.hpp); a
@@ -766,7 +653,7 @@ class ForestSearch {
   const bool searched_;
   HaltonSequence halton_;
   const std::size_t max_active_, max_seeds_;
-  double mu_;        // µ(P̄)
+  double mu_;         // µ(P̄)
   const double n_g_;  // grid points of the coverage grid
   PlannerOutcome out_;
   std::vector<std::vector<double>> seeds_;  // P̄
@@ -774,9 +661,9 @@ class ForestSearch {
   std::vector<ForestTree*> active_;  // in seed order
   std::deque<ForestTree*> parked_;   // stalled trees waiting for a free slot, the longest waiting first
   NamedSeries dispersion_series_{"dispersion", {}};
-  PlannerCounters total_;     // over the forest, as of the last barrier
-  std::int64_t rounds_ = 0;   // barriers passed (a tree planted at barrier b grows from round b + 1)
-  std::int64_t ahead_ = 0;    // run-ahead: rounds past (barrier + 1) a tree may start
+  PlannerCounters total_;    // over the forest, as of the last barrier
+  std::int64_t rounds_ = 0;  // barriers passed (a tree planted at barrier b grows from round b + 1)
+  std::int64_t ahead_ = 0;   // run-ahead: rounds past (barrier + 1) a tree may start
   ForestTree* winner_ = nullptr;
   std::int64_t terminated_[4] = {0, 0, 0, 0};
   std::int64_t restarts_ = 0;
@@ -804,11 +691,16 @@ MethodEntry rrft_method() {
           "a tree ends on growth/coverage and is replaced by a new seed while the seeds' dispersion is above mu_min, "
           "else by a restart at a seed whose trees all stopped growing (not_found only when every seed is covered)",
           {{"n_t", 4, "initial trees = maximum active trees (1 when P is 0-dimensional)", "[1, 1024]"},
-           {"K", 10, "extension attempts per active tree per round at batch = 1 (K = 1: the interleaving of Alg. 3; batch B > 1: B slots per tree per round)", "[1, 100000]"},
-           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)", "[0, 1e9]"},
+           {"K", 10,
+            "extension attempts per active tree per round at batch = 1 (K = 1: the interleaving of Alg. 3; batch B > "
+            "1: B slots per tree per round)",
+            "[1, 100000]"},
+           {"g_min", 0.01, "ḡ: a tree is not growing when n_g·g(T) <= g_min (coverage gained per node, in grid points)",
+            "[0, 1e9]"},
            {"c_min", 0.05, "c̄: a tree is fully grown when D(T) (seed 003 eq. 3, falls to 0) <= c_min", "[0, 1]"},
            {"mu_min", 0.1, "µ̄: plant new seeds while µ(P̄) (eq. 2, normalized by P's diameter) > mu_min", "[0, 1]"},
-           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled", "[1, 10000000]"},
+           {"window", 200, "nodes of the finite difference g(T); also failed attempts before a tree is stalled",
+            "[1, 10000000]"},
            {"max_seeds", 64, "at most this many seeds (trees) per trial", "[1, 4096]"},
            {"shift", false, "shift the Halton sequence by a per-trial random vector (Cranley-Patterson)"},
            {"series_every", 50, "tree nodes between points of the coverage/growth series", "[1, 100000000]"},
@@ -818,7 +710,9 @@ MethodEntry rrft_method() {
             "at each round's barrier, then the run stops as budget; 0 = no cap (ARCH-COMP: 1500)",
             "[0, 100000000]", 0}},
           [](const Json& o) { return std::make_unique<Rrft>(parse_options(o)); },
-          check_rrft_system, false, /*searches_parameters=*/true};
+          check_rrft_system,
+          false,
+          /*searches_parameters=*/true};
 }
 
 }  // namespace hyfal

@@ -4,8 +4,9 @@
 
 #include <random>
 
-#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_loop.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/parallel_slots.hpp"
 
 namespace hyfal {
 
@@ -43,11 +44,12 @@ class Rrt final : public Planner {
 }  // namespace
 
 MethodEntry rrt_method() {
-  return {"rrt",
-          "baseline RRT (seed 000 Alg. 1-2): uniform x_rand, nearest node by the metric, best input of Ū",
-          {batch_option(), robustness_bias_option(), simulation_budget_option(), input_refinement_option()},
-          [](const Json& o) { return std::make_unique<Rrt>(o.at("batch").get<std::size_t>(), StlSearchOptions::from(o)); },
-          check_stl_search_options};
+  return {
+      "rrt",
+      "baseline RRT (seed 000 Alg. 1-2): uniform x_rand, nearest node by the metric, best input of Ū",
+      {batch_option(), robustness_bias_option(), simulation_budget_option(), input_refinement_option()},
+      [](const Json& o) { return std::make_unique<Rrt>(o.at("batch").get<std::size_t>(), StlSearchOptions::from(o)); },
+      check_stl_search_options};
 }
 
 }  // namespace hyfal

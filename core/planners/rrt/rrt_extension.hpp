@@ -2,7 +2,7 @@
 // that grows plain RRTs (rrt and rrt-dstar through rrt_loop.hpp, and each tree of RRFT), so
 // that the step exists once:
 //   x_near = argmin_j rho(x_j, x_rand)                    (KD-tree, exact);
-//   Ū(x_near) = the suite's Ū_q mapped onto the admissible box at x_near (core/inputs.hpp:
+//   Ū(x_near) = the suite's Ū_q mapped onto the admissible box at x_near (core/search/input_grid.hpp:
 //               the identity for state-independent inputs; a driver's box for navigation),
 //               or |Ū_q| fresh uniform draws from that box where the suite's input policy is
 //               continuous random inputs (from the caller's stream);
@@ -14,7 +14,7 @@
 //   it or ended with s <= 0.
 // With an STL requirement (SystemInfo::requirement) the unsafe set is the requirement's
 // violation instead: each candidate's trace is sampled, the kept one extends x_near's monitor
-// state (core/requirements/edge_monitor.hpp), and x_new falsifies when its prefix robustness's
+// state (core/search/edge_monitor.hpp), and x_new falsifies when its prefix robustness's
 // upper bound is < 0. A node whose robustness is settled (>= 0 on every extension) is added to
 // the tree but not to the nearest-neighbour index: no extension could falsify from it. Nor is a
 // node that falsifies: the search ends there, or, where the witness validator refuses the
@@ -27,12 +27,14 @@
 #include <span>
 #include <vector>
 
-#include "core/inputs.hpp"
-#include "core/nearest.hpp"
-#include "core/planner.hpp"
-#include "core/requirements/edge_monitor.hpp"
-#include "core/trajectory.hpp"
-#include "core/tree.hpp"
+#include "core/run/planner.hpp"
+#include "core/search/edge_monitor.hpp"
+#include "core/search/input_grid.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/validator.hpp"
+#include "core/witness/witness.hpp"
 
 namespace hyfal {
 
@@ -43,7 +45,7 @@ struct RrtExtensionResult {
   bool added() const { return node != kNoNode; }
 };
 
-// The extension split into its phases for batches (core/parallel_slots.hpp): propose() reads the
+// The extension split into its phases for batches (core/search/parallel_slots.hpp): propose() reads the
 // tree only (x_near given, e.g. from NearestNeighbors::knn_batch; every input of Ū propagated;
 // the best kept in this object's scratch) and may run concurrently with other slots' propose();
 // commit() then adds the proposal to the tree, one slot at a time in slot order. extend() is
@@ -51,7 +53,11 @@ struct RrtExtensionResult {
 class RrtExtension {
  public:
   RrtExtension(const System& system, const WeightedEuclidean& metric)
-      : system_(system), metric_(metric), inputs_(system), candidate_(system.info().dim()), x_new_(system.info().dim()) {
+      : system_(system),
+        metric_(metric),
+        inputs_(system),
+        candidate_(system.info().dim()),
+        x_new_(system.info().dim()) {
     if (system.info().requirement) stl_.emplace(system);
   }
 
@@ -213,7 +219,7 @@ class RrtExtension {
   bool progress_ = false;
   std::size_t best_j_ = 0;
   PropagationResult best_r_;
-  std::optional<stl::EdgeMonitor> stl_;  // with an STL requirement only
+  std::optional<stl::EdgeMonitor> stl_;    // with an STL requirement only
   std::vector<EvaluatedInput> evaluated_;  // the choice by robustness's candidates, one per input of Ū
   std::size_t refine_ = 0;                 // input refinement: values per proposal (0: Ū)
 };
@@ -221,7 +227,7 @@ class RrtExtension {
 // The falsification step every tree method shares under an STL requirement (rrt, rrt-dstar,
 // enhanced-rrt, each tree of RRFT): a node whose prefix robustness is bounded above by a
 // negative number falsifies once the witness validator confirms it, as an optimiser's candidate
-// does (core/signal_search.hpp). A node whose samples violate but whose re-simulation does not
+// does (core/planners/signal_search.hpp). A node whose samples violate but whose re-simulation does not
 // (a bound within the sampling error of 0: CC2's -0.077 at 0.05 s steps, +0.093 re-simulated) is
 // refused: the node stays a leaf (RrtExtension::commit leaves a violating node out of the index)
 // and the search goes on. Returns the confirmed node's trajectory, or nullopt with the

@@ -8,7 +8,7 @@
 // XRandSource: void sample(Rng&, std::span<double> x_rand); void added(std::span<const double> x)
 // (every node, the root included); void finish(PlannerOutcome&) (once, at the end).
 //
-// Batches (`batch` = B > 1, core/parallel_slots.hpp): each round draws B samples x_rand in slot
+// Batches (`batch` = B > 1, core/search/parallel_slots.hpp): each round draws B samples x_rand in slot
 // order (slot s from its own stream slot_seed(seed, round, s); the source's state, e.g. RRT[D*]'s
 // cell weights, is that of the round's start plus the earlier slots' draws), answers their
 // nearest-node queries as one batch against the frozen tree, propagates the B slots' inputs in
@@ -39,13 +39,14 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/nearest.hpp"
-#include "core/parallel_slots.hpp"
-#include "core/planner.hpp"
 #include "core/planners/rrt/rrt_extension.hpp"
-#include "core/rng.hpp"
-#include "core/trajectory.hpp"
-#include "core/tree.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
+#include "core/search/parallel_slots.hpp"
+#include "core/util/rng.hpp"
+#include "core/witness/trajectory.hpp"
 
 namespace hyfal {
 
@@ -129,8 +130,9 @@ inline void check_stl_search_options(const System& system, const Json& options) 
     if (!requirement) throw std::invalid_argument("budget > 0 needs an STL requirement (--set requirement=...)");
     const double h = requirement->formula.horizon();
     if (!(std::isfinite(h) && h > 0.0))
-      throw std::invalid_argument("budget > 0 needs a requirement of finite, positive horizon (simulations are "
-                                  "simulated time / the horizon)");
+      throw std::invalid_argument(
+          "budget > 0 needs a requirement of finite, positive horizon (simulations are "
+          "simulated time / the horizon)");
   }
 }
 
@@ -248,12 +250,12 @@ PlannerOutcome grow_rrt(const PlannerContext& ctx, XRandSource& source, std::siz
         guided_from[s] = guided.draw(slot_streams[s], tree);
         source.sample(slot_streams[s], std::span<double>(x_rands.data() + s * n, n));
       }
-      nn.knn_batch(x_rands, 1, nearest, found, ctx.cpu);  // x_near of every slot, one batch
+      nn.knn_batch(x_rands, 1, nearest, found, ctx.cpu);   // x_near of every slot, one batch
       parallel_slots(batch, ctx.cpu, [&](std::size_t s) {  // propagate, against the frozen tree
         slots[s]->counters = {};
         slots[s]->step.propose(tree, guided_from[s].value_or(nearest[s].id), *slots[s]->prop,
-                               std::span<const double>(x_rands.data() + s * n, n), p, slot_streams[s], slots[s]->counters,
-                               guided_from[s].has_value());
+                               std::span<const double>(x_rands.data() + s * n, n), p, slot_streams[s],
+                               slots[s]->counters, guided_from[s].has_value());
       });
       for (std::size_t s = 0; s < batch; ++s) {  // commit, in slot order
         c.add_work(slots[s]->counters);

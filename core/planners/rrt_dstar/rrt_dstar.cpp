@@ -2,7 +2,7 @@
 //   x_rand ~ StarDiscrepancyGrid::sample: with probability uniform_mix uniform over the sampling
 //            box, else uniform inside a grid cell of the projection onto state dimensions 0 and 1
 //            (the suite's first two; only 0 for a 1-D state) drawn with probability ∝ its
-//            discrepancy weight w_b = d_b + e_b + floor (see core/samplers/star_discrepancy.hpp);
+//            discrepancy weight w_b = d_b + e_b + floor (see core/search/samplers/star_discrepancy.hpp);
 //            other dimensions uniform over the sampling box.
 //   the cell counts grow with every node added (O(1)); the weights are recomputed every
 //   `refresh` iterations.
@@ -13,12 +13,13 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/nearest.hpp"
-#include "core/rng.hpp"
-#include "core/parallel_slots.hpp"
 #include "core/planners/rrt/rrt_loop.hpp"
-#include "core/samplers/star_discrepancy.hpp"
-#include "core/tree.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
+#include "core/search/parallel_slots.hpp"
+#include "core/search/samplers/star_discrepancy.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal {
 
@@ -90,7 +91,10 @@ MethodEntry rrt_dstar_method() {
            {"uniform_mix", 0.1, "fraction of plain uniform draws of x_rand", "[0, 1]"},
            {"refresh", 50, "iterations between recomputations of the cell weights", "[1, 1000000]"},
            {"floor", 0.05, "weight floor of every cell, as a fraction of its volume share 1/B^2", "(0, 1]"},
-           batch_option(), robustness_bias_option(), simulation_budget_option(), input_refinement_option()},
+           batch_option(),
+           robustness_bias_option(),
+           simulation_budget_option(),
+           input_refinement_option()},
           [](const Json& o) { return std::make_unique<RrtDstar>(parse_options(o)); },
           check_stl_search_options};
 }

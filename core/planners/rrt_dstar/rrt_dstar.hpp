@@ -1,12 +1,12 @@
 #pragma once
 #include <vector>
 
-#include "core/planner.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 
 // RRT[D*] (Dang & Nahhal's star-discrepancy-guided RRT; a baseline of seed 002): the baseline
-// RRT whose x_rand favours the under-covered cells of the sampling box (core/samplers/star_discrepancy.hpp).
+// RRT whose x_rand favours the under-covered cells of the sampling box (core/search/samplers/star_discrepancy.hpp).
 MethodEntry rrt_dstar_method();
 
 // This folder's methods, in the order `hyfal list` shows them: the registry's entry

@@ -14,8 +14,8 @@
 #include <span>
 #include <vector>
 
-#include "core/model.hpp"
-#include "core/nearest.hpp"
+#include "core/model/system.hpp"
+#include "core/search/nearest_neighbors.hpp"
 
 namespace hyfal {
 

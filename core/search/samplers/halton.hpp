@@ -21,7 +21,7 @@
 #include <span>
 #include <vector>
 
-#include "core/model.hpp"
+#include "core/model/system.hpp"
 
 namespace hyfal {
 

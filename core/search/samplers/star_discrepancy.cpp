@@ -1,5 +1,5 @@
 // See star_discrepancy.hpp for the estimate and the draw.
-#include "core/samplers/star_discrepancy.hpp"
+#include "core/search/samplers/star_discrepancy.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -80,8 +80,7 @@ void StarDiscrepancyGrid::refresh() {
       const double p = N > 0 ? static_cast<double>(counts_[b]) / N : 0.0;
       deficit_[b] = std::max(v - p, 0.0);
       corner_[b] = std::max(vol(ix + 1, iy + 1) - frac(ix + 1, iy + 1), 0.0);
-      if (N > 0)
-        upper_ = std::max({upper_, frac(ix + 1, iy + 1) - vol(ix, iy), vol(ix + 1, iy + 1) - frac(ix, iy)});
+      if (N > 0) upper_ = std::max({upper_, frac(ix + 1, iy + 1) - vol(ix, iy), vol(ix + 1, iy + 1) - frac(ix, iy)});
       weight_[b] = deficit_[b] + corner_[b] + floor_frac_ * v;
       acc += weight_[b];
       cumulative_[b] = acc;

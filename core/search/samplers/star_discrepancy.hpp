@@ -32,8 +32,8 @@
 #include <span>
 #include <vector>
 
-#include "core/model.hpp"
-#include "core/rng.hpp"
+#include "core/model/system.hpp"
+#include "core/util/rng.hpp"
 
 namespace hyfal {
 

@@ -1,4 +1,4 @@
-// A model known only by its simulations (core/black_box.hpp), with a C++ stl::SignalModel: the
+// A model known only by its simulations (core/model/black_box.hpp), with a C++ stl::SignalModel: the
 // signal searches falsify it and its witnesses validate by running the model again; a witness
 // whose input was changed is refused; the trees are refused before a run; a model that fails
 // ends the trial with its message; bad specifications are refused.
@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "core/black_box.hpp"
-#include "core/options.hpp"
+#include "core/model/black_box.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/model/signal_model.hpp"
 
 namespace hyfal {
 namespace {

@@ -11,15 +11,18 @@
 #include <string>
 #include <vector>
 
-#include "core/input_levels.hpp"
-#include "core/inputs.hpp"
-#include "core/options.hpp"
+#include "core/search/input_levels.hpp"
+#include "core/search/input_grid.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/planners/adaptive/adaptive.hpp"
-#include "core/rng.hpp"
-#include "core/trajectory.hpp"
+#include "core/util/rng.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "engine_support.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

@@ -20,11 +20,12 @@
 #include <stdexcept>
 #include <thread>
 
-#include "core/options.hpp"
-#include "core/parallel_slots.hpp"
-#include "core/rng.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/search/parallel_slots.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

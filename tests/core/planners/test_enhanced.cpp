@@ -8,15 +8,18 @@
 #include <fmt/format.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/coverage.hpp"
-#include "core/metrics/history_weight.hpp"
-#include "core/metrics/time_to_go.hpp"
-#include "core/options.hpp"
-#include "core/samplers/biased_sampler.hpp"
-#include "core/system.hpp"
-#include "core/trajectory.hpp"
-#include "core/trial_record.hpp"
+#include "core/search/coverage_grid.hpp"
+#include "core/search/metrics/history_weight.hpp"
+#include "core/search/metrics/time_to_go.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/search/samplers/biased_sampler.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
+#include "core/run/trial_record.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

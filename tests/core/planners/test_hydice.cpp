@@ -14,13 +14,15 @@
 
 #include <fmt/format.h>
 
-#include "core/inputs.hpp"
-#include "core/options.hpp"
+#include "core/search/input_grid.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/planners/hydice/hydice.hpp"
-#include "core/system.hpp"
-#include "core/trajectory.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/navigation/navigation.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

@@ -17,11 +17,12 @@
 
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/options.hpp"
-#include "core/planner.hpp"
-#include "core/rng.hpp"
-#include "core/system.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/util/rng.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/witness/trajectory.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

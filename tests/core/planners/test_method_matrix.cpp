@@ -15,11 +15,14 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/decomposition.hpp"
-#include "core/options.hpp"
-#include "core/rng.hpp"
+#include "core/model/decomposition.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {
@@ -97,7 +100,7 @@ TEST(method_matrix, EveryMethodOnEverySuiteEndsWithoutErrorAndItsWitnessesValida
       }
       // Only HyDICE's decomposition and Syclop's grid (OMPL) are missing on some suites, only rrft
       // and the optimisers search a suite without inputs (f16), and the optimisation falsifiers
-      // need an STL requirement (tests/test_stl_search.cpp runs them); every other pair must run.
+      // need an STL requirement (tests/core/planners/test_stl_search.cpp runs them); every other pair must run.
       const bool has_grid = sys->decomposition() && sys->decomposition()->state_grid();
       EXPECT_EQ(runnable, !(m.name.starts_with("hydice") && sys->decomposition() == nullptr) &&
                               !(m.name.starts_with("ompl-syclop") && !has_grid) &&

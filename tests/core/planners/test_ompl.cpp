@@ -17,11 +17,14 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "core/options.hpp"
-#include "core/rng.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

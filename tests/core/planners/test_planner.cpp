@@ -6,10 +6,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/options.hpp"
-#include "core/rng.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

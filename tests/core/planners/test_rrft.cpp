@@ -18,14 +18,17 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/options.hpp"
-#include "core/rng.hpp"
-#include "core/samplers/halton.hpp"
-#include "core/system.hpp"
-#include "core/trial_record.hpp"
-#include "core/trial_cpu.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
+#include "core/search/samplers/halton.hpp"
+#include "core/simulate/model_system.hpp"
+#include "core/run/trial_record.hpp"
+#include "core/util/trial_cpu_clock.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

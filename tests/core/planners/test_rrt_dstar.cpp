@@ -6,11 +6,13 @@
 #include <cmath>
 #include <vector>
 
-#include "core/options.hpp"
-#include "core/rng.hpp"
-#include "core/samplers/star_discrepancy.hpp"
-#include "core/trajectory.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
+#include "core/search/samplers/star_discrepancy.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

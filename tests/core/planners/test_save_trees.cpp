@@ -12,10 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
-#include "core/rng.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
 #include "parallel/trial_engine.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

@@ -16,17 +16,20 @@
 #include <string>
 #include <vector>
 
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "core/planners/rrt/rrt_loop.hpp"
 #include "core/requirements/requirement.hpp"
-#include "core/requirements/simulate.hpp"
-#include "core/rng.hpp"
-#include "core/trajectory.hpp"
+#include "core/model/signal_model.hpp"
+#include "core/util/rng.hpp"
+#include "core/witness/trajectory.hpp"
+#include "core/witness/witness.hpp"
+#include "core/witness/validator.hpp"
 #include "engine_support.hpp"
 #include "parallel/trial_engine.hpp"
 #include "results/statistics.hpp"
 #include "results/table_writer.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {
@@ -111,7 +114,7 @@ std::vector<StlCase> stl_cases() {
           {"cc", {{"step", "25"}, {"requirement", "CC3f"}}, 1500}};  // optimisers only (FalStar's setting)
 }
 
-// The signal searches (core/signal_search.hpp): the optimisers and FalStar's adaptive search.
+// The signal searches (core/planners/signal_search.hpp): the optimisers and FalStar's adaptive search.
 bool is_optimizer(const MethodEntry& m) {
   return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name.starts_with("adaptive");
 }

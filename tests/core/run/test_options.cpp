@@ -1,12 +1,13 @@
-// The one validation layer for settings (core/options.hpp): declared ranges, their parsing, and
+// The one validation layer for settings (core/run/option_spec.hpp): declared ranges, their parsing, and
 // that every suite parameter and method option declares a range its default satisfies.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
-#include "core/options.hpp"
+#include "core/run/option_spec.hpp"
 #include "suites/registry.hpp"
+#include "core/run/method_entry.hpp"
 
 namespace hyfal {
 namespace {

@@ -8,8 +8,8 @@
 
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/nearest.hpp"
-#include "core/tree.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/search/node_store.hpp"
 
 namespace hyfal {
 namespace {

@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "core/metrics/time_to_go.hpp"
-#include "core/nearest.hpp"
-#include "core/options.hpp"
-#include "core/rng.hpp"
-#include "core/system.hpp"
+#include "core/search/metrics/time_to_go.hpp"
+#include "core/search/nearest_neighbors.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/util/rng.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 namespace hyfal {

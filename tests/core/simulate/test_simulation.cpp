@@ -19,11 +19,12 @@
 
 #include <boost/numeric/odeint.hpp>
 
-#include "core/options.hpp"
-#include "core/planner.hpp"
-#include "core/root_bracket.hpp"
-#include "core/rosenbrock.hpp"
-#include "core/system.hpp"
+#include "core/run/option_spec.hpp"
+#include "core/run/planner.hpp"
+#include "core/run/method_entry.hpp"
+#include "core/simulate/root_bracket.hpp"
+#include "core/simulate/rosenbrock.hpp"
+#include "core/simulate/model_system.hpp"
 #include "suites/registry.hpp"
 
 // Counts heap allocations in this test binary (to prove propagations allocate nothing).
@@ -159,7 +160,7 @@ struct Quadratic {
   const InputSet& inputs(Mode) const { return u; }
 };
 
-// ROS34PW2 (core/rosenbrock.hpp) is of third order: on a nonlinear flow its error at t = 1 falls
+// ROS34PW2 (core/simulate/rosenbrock.hpp) is of third order: on a nonlinear flow its error at t = 1 falls
 // about 8-fold each time h halves; and it carries the components beyond flowing_dim unchanged.
 TEST(Integration, Ros34pw2IsOfThirdOrder) {
   const Quadratic m;
@@ -259,7 +260,7 @@ TEST(Integration, Ros34pw2AdaptsItsStep) {
   EXPECT_GT(steps[1], 3.0 * steps[0]);
 }
 
-// The sparse factorization and substitutions (core/rosenbrock.hpp skips exact zeros) against the
+// The sparse factorization and substitutions (core/simulate/rosenbrock.hpp skips exact zeros) against the
 // same step in a rotated basis, where every entry of J is nonzero: a linear flow x' = A x with A
 // sparse and W's first pivot small, so that partial pivoting swaps rows (W = I - γ h A with
 // h = 1: |W_00| = 1 against |W_10| = 4.4). With y = Q x (Q a rotation) the step of y' = Q A Qᵀ y is
@@ -360,7 +361,7 @@ TEST(Integration, Rk4MatchesClosedForm) {
   EXPECT_NEAR(x1[0], 2.0 * std::exp(-1.0), 1e-9);  // RK4 global error ~ h^4
 }
 
-// core/rk4.hpp claims odeint's runge_kutta4 arithmetic: every registered suite's flow, from its
+// core/simulate/rk4.hpp claims odeint's runge_kutta4 arithmetic: every registered suite's flow, from its
 // initial state and random states of its sampling box, under each input of its grid, stepped 8
 // times by the propagator and by odeint's stepper over the same derivative, must agree bit for
 // bit (memcmp: NaN payloads and signed zeros included).

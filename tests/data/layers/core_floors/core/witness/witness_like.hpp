@@ -1,0 +1,2 @@
+// A fixture: a witness floor header.
+#pragma once
