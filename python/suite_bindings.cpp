@@ -15,6 +15,7 @@
 #include "core/run/option_spec.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/simulate/input_simulator.hpp"
+#include "core/requirements/robustness_gradient.hpp"
 #include "core/model/signal_model.hpp"
 #include "core/simulate/input_signal.hpp"
 #include "core/requirements/trace_monitor.hpp"
@@ -126,7 +127,8 @@ std::shared_ptr<const stl::SimulatedTrace> trace_of(const Suite& s, const stl::R
 // (stl::sampled_signal_problem: times from 0, increasing; values inside the input box up to 1e-9,
 // then clamped into it); zoh: value k held from times[k] to times[k+1]; linear: control points.
 std::vector<stl::InputPiece> input_pieces(const Suite& s, py::handle inputs, py::handle times_arg,
-                                          const std::string& interpolation) {
+                                          const std::string& interpolation,
+                                          std::vector<stl::ControlWeights>* weights = nullptr) {
   const SystemInfo& info = s.system->info();
   if (interpolation != "zoh" && interpolation != "linear")
     throw py::value_error(fmt::format("interpolation '{}': expected 'zoh' or 'linear'", interpolation));
@@ -187,7 +189,8 @@ std::vector<stl::InputPiece> input_pieces(const Suite& s, py::handle inputs, py:
     }
   }
   // As `hyfal simulate --interpolation linear`: pieces of the integrator's (largest) step.
-  return stl::sampled_signal_pieces(sample_times, std::move(rows), box, interpolation == "linear" ? stl::linear_piece_step(info) : 0.0);
+  return stl::sampled_signal_pieces(sample_times, std::move(rows), box,
+                                    interpolation == "linear" ? stl::linear_piece_step(info) : 0.0, weights);
 }
 
 py::dict verdict_dict(const stl::TraceVerdict& v) {
@@ -388,6 +391,46 @@ unused); 'linear': control points joined by lines. Returns a hyfal.Trace.)doc")
           py::arg("requirement"), py::arg("trace"),
           R"doc(rho(requirement, 0) of a trace as it ends: requirement a declared id ('AT1') or a formula over the
 suite's signals (None: the instance's requirement); trace a hyfal.Trace or a mapping with 'time' and signals.)doc")
+      .def(
+          "robustness_gradient",
+          [](const Suite& s, py::handle requirement, py::handle inputs, py::handle times, const std::string& interpolation) {
+            const stl::Requirement r = requirement_of(s, requirement);
+            std::vector<stl::ControlWeights> weights;
+            const auto pieces = input_pieces(s, inputs, times, interpolation, &weights);
+            const SystemInfo& info = s.system->info();
+            const std::size_t m = info.input_names.size();
+            const std::size_t points = static_cast<std::size_t>(py::len(times));
+            std::vector<double> g(points * m);
+            const double rho = run_released<double>([&](std::stop_token stop) {
+              stl::RobustnessGradient gradient(*s.system, r);
+              gradient.simulator().set_interrupt({std::chrono::steady_clock::time_point::max(), stop});
+              return gradient.evaluate(pieces, weights, points, info.parameters, g);
+            });
+            const auto column = [&](std::size_t j) {
+              py::array_t<double> a(static_cast<py::ssize_t>(points));
+              auto w = a.mutable_unchecked<1>();
+              for (std::size_t k = 0; k < points; ++k) w(static_cast<py::ssize_t>(k)) = g[k * m + j];
+              return a;
+            };
+            py::dict grad;  // keyed as the caller keyed the inputs (a name or an alias), else by name
+            if (py::isinstance<py::dict>(inputs) || py::hasattr(inputs, "keys")) {
+              for (py::handle key : inputs.attr("keys")())
+                grad[key] = column(stl::input_named(info, key.cast<std::string>()));
+            } else {
+              for (std::size_t j = 0; j < m; ++j) grad[py::str(info.input_names[j])] = column(j);
+            }
+            return py::make_tuple(rho, grad);
+          },
+          py::arg("requirement"), py::arg("inputs"), py::arg("times"), py::kw_only(), py::arg("interpolation") = "zoh",
+          R"doc(rho(requirement, 0) of the simulation of an input signal and its gradient: returns (rho, grad), grad a
+dict input -> array of d rho / d(value at each time), keyed as `inputs` is (by input name when it is an array;
+the parameters are not searched here), the shape of each input's values (under 'zoh' the last value
+is unused: its derivative is 0). inputs, times and interpolation as simulate() takes them; requirement as
+robustness() takes it. rho is the exact robustness of the simulation (simulate()'s trace, bit for bit); the
+gradient comes from the model's own tangents, through every transition (the saltation of a state event),
+and from the monitor's critical sample (a subgradient where a min or max ties). One call costs one
+simulation with tangents. ValueError for a system without gradients (a hyfal.BlackBox, a suite integrated
+by another method than RK4).)doc")
       .def(
           "judge",
           [](const Suite& s, py::handle requirement, py::handle trace) {

@@ -24,6 +24,15 @@ struct InputPiece {
   std::vector<double> u;
 };
 
+// How one input piece depends on an input signal's control points c_k (each a vector of the m
+// inputs): u = here · c_point + next · c_(point+1), the same weights for every input. A held
+// signal's piece k: {k, 1, 0}; a linear one's: the line's weights at the piece's midpoint
+// (stl::linear_signal_pieces). With m inputs, control point k's input j is search variable k m + j.
+struct ControlWeights {
+  std::size_t point = 0;
+  double here = 1.0, next = 0.0;
+};
+
 // Every signal of the system (system_signals order) at every sample.
 struct SimulatedTrace {
   std::vector<double> time;

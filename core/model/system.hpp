@@ -258,6 +258,25 @@ class Propagator {
   int since_check_ = 0;
 };
 
+// A propagator of a state together with its tangents: the derivatives of the state with respect
+// to P search variables (an input signal's control points), for gradient-based falsification
+// (core/simulate/tangent_model.hpp says how they are computed; stl::SensitivitySimulator drives
+// one). It propagates the augmented state z = [x (n) | S (n × P, variable by variable: S[v n + i]
+// = ∂x_i/∂c_v at a fixed time) | T (P: ∂t/∂c_v of the time the state stands at, non-zero only
+// after a state event inside an input piece, whose time moves with the inputs)] under the
+// augmented input [u (m) | U (m × P, variable by variable: U[v m + j] = ∂u_j/∂c_v)], with exactly
+// the plain propagator's steps and events: z's first n entries are the same bits as a plain
+// propagation's state.
+class TangentPropagator {
+ public:
+  virtual ~TangentPropagator() = default;
+  // The propagator of z (its dim() is n (1 + P) + P), used as any other: hold_input, a trace.
+  virtual Propagator& propagator() = 0;
+  // Only variables [0, k) have a non-zero tangent so far (later control points are not yet
+  // reached): their columns are propagated, the rest left at 0. Default: all P.
+  virtual void set_active_variables(std::size_t k) = 0;
+};
+
 // The grid G of the coverage measure c(T, G) (seed 000 eq. II.1, seed 003 eq. 3): spacing δx
 // over `box`, in the projection of the state onto `dims` (all dimensions when empty).
 struct CoverageSpec {
@@ -395,6 +414,16 @@ class System {
                        std::span<double> y) const {}
   virtual std::unique_ptr<Propagator> make_propagator(const IntegratorSettings& s) const = 0;
   std::unique_ptr<Propagator> make_propagator() const { return make_propagator(info().integrator); }
+  // A propagator of the state and its tangents with respect to `variables` search variables
+  // (TangentPropagator) with the settings s; null when the system has none (a black box, an
+  // integrator other than RK4: its step-size control would see the tangents).
+  virtual std::unique_ptr<TangentPropagator> make_tangent_propagator(std::size_t variables,
+                                                                     const IntegratorSettings& s) const {
+    return nullptr;
+  }
+  std::unique_ptr<TangentPropagator> make_tangent_propagator(std::size_t variables) const {
+    return make_tangent_propagator(variables, info().integrator);
+  }
   // The region decomposition of seed 002 Sect. 3.2 (HyDICE), when the suite provides one.
   virtual const Decomposition* decomposition() const { return nullptr; }
   // A model known only by its simulations (a black box: core/model/black_box.hpp), when it is one:

@@ -38,6 +38,14 @@ SignalSimulations::SignalSimulations(const PlannerContext& ctx, std::int64_t bud
   if (shape_ == InputShape::linear)
     fine_per_piece_ =
         static_cast<std::size_t>(std::max(1.0, std::ceil(dt_ / system_.info().integrator.max_step - 1e-9)));
+  // How each driving piece depends on the control points (stl::ControlWeights): piece k on point k;
+  // a linear signal's pieces of δt on the points at their ends, by the midpoints' weights.
+  for (std::size_t k = 0; k < pieces_; ++k)
+    for (std::size_t j = 0; j < fine_per_piece_; ++j) {
+      const double w =
+          shape_ == InputShape::linear ? (static_cast<double>(j) + 0.5) / static_cast<double>(fine_per_piece_) : 0.0;
+      weights_.push_back({k, 1.0 - w, w});
+    }
   reserve(1);
 }
 
@@ -91,6 +99,22 @@ std::size_t SignalSimulations::samples_through(const stl::SimulatedTrace& trace,
 
 void SignalSimulations::simulate(SignalSlot& slot) const {
   const stl::SimulatedTrace& trace = slot.simulator.run(driving_pieces(slot), slot.parameters);
+  finish(slot, trace);
+}
+
+void SignalSimulations::simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient) const {
+  const std::vector<stl::InputPiece>& pieces = driving_pieces(slot);
+  gradient.resize(control_points() * system_.info().input_names.size());
+  const double rho =
+      slot.monitor.robustness_gradient(slot.simulator, pieces, weights_, control_points(), slot.parameters, gradient);
+  finish(slot, slot.simulator.trace());
+  if (!slot.interrupted && slot.problem.empty())
+    slot.rho = rho;
+  else
+    std::fill(gradient.begin(), gradient.end(), 0.0);
+}
+
+void SignalSimulations::finish(SignalSlot& slot, const stl::SimulatedTrace& trace) const {
   slot.steps = trace.integration_steps;
   slot.interrupted = slot.simulator.interrupted();
   slot.problem = trace.problem;

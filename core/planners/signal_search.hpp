@@ -103,6 +103,14 @@ class SignalSimulations {
   std::int64_t simulations() const { return simulations_; }
   // Simulates the slot's signal into `slot` (touches nothing else: slots may run in parallel).
   void simulate(SignalSlot& slot) const;
+  // The same simulation with the gradient of its robustness (core/requirements/trace_monitor.hpp)
+  // with respect to the signal's control points, into `gradient` in the order the slot holds them
+  // (constant: piece by piece; linear: `start`, then the end of each piece), input by input. One
+  // simulation, counted by account() as any other. Throws std::logic_error for a system without
+  // tangents (InputSimulator::has_tangents).
+  void simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient) const;
+  // The signal's control points: K, or K + 1 for a linear signal.
+  std::size_t control_points() const { return pieces_ + (shape_ == InputShape::linear ? 1 : 0); }
   // The samples of `trace` (a slot's last simulation) up to the end of its first `pieces` pieces
   // of δt: the prefix they fix (all of a trace that ended before; 1 for none).
   std::size_t samples_through(const stl::SimulatedTrace& trace, std::size_t pieces) const;
@@ -119,6 +127,8 @@ class SignalSimulations {
   bool confirmed(const SignalSlot& slot);
   // The pieces that drive the system: slot.pieces, or (linear) slot.fine filled from them.
   const std::vector<stl::InputPiece>& driving_pieces(SignalSlot& slot) const;
+  // The slot's fields from its simulation's trace (the robustness included).
+  void finish(SignalSlot& slot, const stl::SimulatedTrace& trace) const;
 
   const PlannerContext& ctx_;
   const System& system_;
@@ -131,6 +141,7 @@ class SignalSimulations {
   std::size_t pieces_ = 1;
   InputShape shape_ = InputShape::constant;
   std::size_t fine_per_piece_ = 1;  // linear: pieces of the line per piece of δt
+  std::vector<stl::ControlWeights> weights_;  // the driving pieces' (simulate_with_gradient)
   std::int64_t simulations_ = 0, steps_ = 0, refused_ = 0;
   double refused_rho_ = 0.0;
   std::optional<Trajectory> confirmed_;  // the falsifying signal's trajectory, once confirmed

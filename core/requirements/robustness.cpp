@@ -300,4 +300,107 @@ void OfflineMonitor::apply(const FormulaNode& node, const double* l, const doubl
   for (std::size_t i = 0; i < n; ++i) out[i] = std::min(out[i], phi_before[i]);
 }
 
+void OfflineMonitor::critical_samples(std::vector<SampleWeight>& out) {
+  if (!exact_ || n_ == 0) throw std::logic_error("critical_samples: call robustness_at_every_sample first");
+  critical_node(formula_.root(), 0, 1.0, out);
+}
+
+void OfflineMonitor::critical_expression(int e, std::size_t i, double w, std::vector<SampleWeight>& out) const {
+  const ExpressionNode& x = formula_.expressions[e];
+  switch (x.kind) {
+    case ExpressionNode::Kind::constant:
+      return;
+    case ExpressionNode::Kind::signal:
+      out.push_back({static_cast<std::size_t>(x.signal), i, w});
+      return;
+    case ExpressionNode::Kind::add:
+      critical_expression(x.left, i, w, out);
+      critical_expression(x.right, i, w, out);
+      return;
+    case ExpressionNode::Kind::subtract:
+      critical_expression(x.left, i, w, out);
+      critical_expression(x.right, i, -w, out);
+      return;
+    case ExpressionNode::Kind::negate:
+      critical_expression(x.left, i, -w, out);
+      return;
+    case ExpressionNode::Kind::scale:
+      critical_expression(x.left, i, x.value * w, out);
+      return;
+    case ExpressionNode::Kind::abs:
+      critical_expression(x.left, i, expression_row(x.left)[i] < 0.0 ? -w : w, out);
+      return;
+  }
+}
+
+// Follows ρ(node, i) to what attains it (see critical_samples), with the windows recomputed for
+// the one sample on the path.
+void OfflineMonitor::critical_node(int k, std::size_t i, double w, std::vector<SampleWeight>& out) {
+  const FormulaNode& node = formula_.nodes[k];
+  const double v = row(k)[i];
+  switch (node.op) {
+    case Operator::compare: {
+      const double d = expression_row(node.lhs)[i] - expression_row(node.rhs)[i];
+      double wl = 0.0;  // ∂atom/∂lhs (∂atom/∂rhs = −wl)
+      switch (node.relation) {
+        case Relation::less:
+        case Relation::less_equal:
+          wl = -1.0;
+          break;
+        case Relation::greater:
+        case Relation::greater_equal:
+          wl = 1.0;
+          break;
+        case Relation::equal:
+          wl = d < 0.0 ? 1.0 : -1.0;
+          break;
+        case Relation::not_equal:
+          wl = d < 0.0 ? -1.0 : 1.0;
+          break;
+      }
+      critical_expression(node.lhs, i, wl * w, out);
+      critical_expression(node.rhs, i, -wl * w, out);
+      return;
+    }
+    case Operator::negation:
+      return critical_node(node.left, i, -w, out);
+    case Operator::conjunction:
+    case Operator::disjunction:
+      return critical_node(row(node.left)[i] == v ? node.left : node.right, i, w, out);
+    case Operator::implication:
+      if (-row(node.left)[i] == v) return critical_node(node.left, i, -w, out);
+      return critical_node(node.right, i, w, out);
+    case Operator::always:
+    case Operator::eventually:
+    case Operator::until:
+      break;
+  }
+  std::vector<std::size_t> start, end;
+  temporal_windows(time_, node.lo, node.hi, start, end, i + 1);
+  const std::size_t s = start[i], e = end[i];  // inclusive
+  if (node.op != Operator::until) {
+    const double* l = row(node.left);
+    std::size_t at = s;
+    for (std::size_t j = s; j <= e; ++j)
+      if (l[j] == v) {
+        at = j;
+        break;
+      }
+    return critical_node(node.left, at, w, out);
+  }
+  // until: max over j in [s, e] of min(ψ_j, min φ over [i, j]), by the literal double loop.
+  const double* phi = row(node.left);
+  const double* psi = row(node.right);
+  double phi_min = kInf, best = -kInf;
+  std::size_t phi_at = i, best_j = s, best_phi_at = i;
+  for (std::size_t j = i; j <= e; ++j) {
+    if (phi[j] < phi_min) phi_min = phi[j], phi_at = j;
+    if (j < s) continue;
+    const double c = std::min(psi[j], phi_min);
+    if (c > best) best = c, best_j = j, best_phi_at = phi_at;
+  }
+  if (psi[best_j] <= phi[best_phi_at]) return critical_node(node.right, best_j, w, out);
+  return critical_node(node.left, best_phi_at, w, out);
+}
+
 }  // namespace hyfal::stl

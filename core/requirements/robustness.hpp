@@ -68,6 +68,14 @@ struct Interval {
   double lower, upper;
 };
 
+// One term of a robustness value as a function of the trace's values: ρ = Σ weight · (signal at
+// sample) + a constant, near the trace (critical_samples).
+struct SampleWeight {
+  std::size_t signal = 0;  // in the formula's order
+  std::size_t sample = 0;
+  double weight = 0.0;
+};
+
 // Evaluates one formula on traces. Its buffers are kept between calls, so monitoring traces of
 // similar length allocates nothing after the first.
 class OfflineMonitor {
@@ -87,6 +95,13 @@ class OfflineMonitor {
   // last time (none at it), so a window that ends exactly there is decided: the sentinel stands
   // just after the last time instead of at it (the same argument, for that narrower set).
   Interval robustness_interval(const TraceView& trace, bool final_trace, bool closed_at_last_time = false);
+  // After robustness_at_every_sample(trace): the samples ρ(φ, 0) is read from, with their
+  // weights (appended to `out`), which makes a subgradient of ρ with respect to the trace's values:
+  // each min or max is followed into the operand (or window sample) that attains it, the first
+  // such in formula and time order; an atom's affine expression gives each signal its coefficient
+  // (abs: the sign of its argument). ρ is piecewise affine in the values, so where no min or max
+  // ties this is its gradient.
+  void critical_samples(std::vector<SampleWeight>& out);
   // After robustness_at_every_sample(): ρ of node `node` (a FormulaNode index) at every sample.
   std::span<const double> node_signal(int node) const;
   // After robustness_interval() of a prefix: node `node`'s lower and upper rows, n + 1 values (the
@@ -103,6 +118,8 @@ class OfflineMonitor {
   void evaluate_expressions(const TraceView& trace, std::size_t count);
   void evaluate(int node, std::size_t count);
   void evaluate_interval(int node, std::size_t known);
+  void critical_node(int node, std::size_t sample, double weight, std::vector<SampleWeight>& out);
+  void critical_expression(int expression, std::size_t sample, double weight, std::vector<SampleWeight>& out) const;
   void compare(const FormulaNode& node, double* out, std::size_t count) const;
   // out = the operator `node.op` applied to the rows l, r over the first `count` samples
   // (temporal operators: over the windows in start_, end_, which windows() computed).

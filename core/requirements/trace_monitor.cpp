@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 namespace hyfal::stl {
 
@@ -37,6 +41,39 @@ TraceVerdict TraceMonitor::judge(const SimulatedTrace& trace) { return judge_pre
 
 Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t samples, bool closed_at_last_time) {
   return monitor_.robustness_interval(view(trace, samples), false, closed_at_last_time);
+}
+
+double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
+                                         std::span<const ControlWeights> weights, std::size_t points,
+                                         std::span<const double> p, std::span<double> gradient) {
+  const std::size_t vars = points * (pieces.empty() ? 0 : pieces[0].u.size());
+  if (gradient.size() != vars)
+    throw std::invalid_argument(
+        fmt::format("robustness_gradient: room for {} values, {} expected", gradient.size(), vars));
+  std::fill(gradient.begin(), gradient.end(), 0.0);
+  critical_.clear();
+  keep_.clear();
+  double rho = std::numeric_limits<double>::quiet_NaN();
+  const SimulatedTrace& plain = simulator.run(pieces, p);
+  // A run the deadline cut short, or one that did not fit the system, stays as it is: no gradient.
+  if (simulator.interrupted() || !plain.problem.empty())
+    return plain.time.empty() ? rho : monitor_.robustness(view(plain));
+  const std::size_t samples = plain.time.size();
+  if (!plain.time.empty()) {
+    rho = monitor_.robustness_at_every_sample(view(plain));
+    monitor_.critical_samples(critical_);
+    for (const SampleWeight& c : critical_) keep_.push_back(c.sample);
+    std::sort(keep_.begin(), keep_.end());
+    keep_.erase(std::unique(keep_.begin(), keep_.end()), keep_.end());
+  }
+  const SimulatedTrace& trace = simulator.run_with_tangents(pieces, weights, points, p, keep_);  // the same trace
+  if (simulator.interrupted() || trace.time.size() != samples) return rho;
+  tangent_.resize(vars);
+  for (const SampleWeight& c : critical_) {
+    simulator.signal_tangent(static_cast<std::size_t>(requirement_.sources[c.signal]), c.sample, tangent_);
+    for (std::size_t v = 0; v < vars; ++v) gradient[v] += c.weight * tangent_[v];
+  }
+  return rho;
 }
 
 double trace_robustness(const Requirement& requirement, const SimulatedTrace& trace) {

@@ -4,11 +4,13 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/model/signal_model.hpp"
 #include "core/requirements/requirement.hpp"
 #include "core/requirements/robustness.hpp"
+#include "core/simulate/input_simulator.hpp"
 
 namespace hyfal::stl {
 
@@ -42,6 +44,15 @@ class TraceMonitor {
   // extension's ρ(φ, 0) lies in it: robustness.hpp), e.g. up to a piece_ends entry;
   // closed_at_last_time: of the extensions that add no further sample at the prefix's last time.
   Interval prefix_bounds(const SimulatedTrace& trace, std::size_t samples, bool closed_at_last_time = false);
+  // ρ(φ, 0) of the simulation of `pieces` (as it ends) and its gradient with respect to the signal's
+  // control points (InputSimulator::run_with_tangents's arguments; points × m values into
+  // `gradient`): a subgradient, the monitor's critical samples (OfflineMonitor::critical_samples)
+  // times their tangents (InputSimulator::signal_tangent). Two runs of `simulator`: the plain one
+  // finds the critical samples, the one with tangents keeps only theirs (the same trace, bit for
+  // bit, which stays in the simulator). NaN and a zero gradient for a trace without samples.
+  double robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
+                             std::span<const ControlWeights> weights, std::size_t points, std::span<const double> p,
+                             std::span<double> gradient);
 
  private:
   // The requirement's signals of the trace's first `samples` samples (all: SIZE_MAX), as the
@@ -50,6 +61,9 @@ class TraceMonitor {
   const Requirement& requirement_;
   OfflineMonitor monitor_;
   std::vector<double> values_;
+  std::vector<SampleWeight> critical_;
+  std::vector<std::size_t> keep_;
+  std::vector<double> tangent_;
 };
 
 // The robustness of a simulated trace for a requirement of the same system (its sources index

@@ -8,7 +8,8 @@
 namespace hyfal::stl {
 
 std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
-                                             double step) {
+                                             double step, std::vector<ControlWeights>* weights) {
+  if (weights) weights->clear();
   if (times.size() != values.size()) throw std::invalid_argument("linear_signal_pieces: one value per control point");
   if (!(step > 0.0)) throw std::invalid_argument("linear_signal_pieces: the step must be > 0");
   std::vector<InputPiece> pieces;
@@ -21,6 +22,7 @@ std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std:
       const double w = (static_cast<double>(j) + 0.5) / static_cast<double>(n);  // the midpoint's weight on the end
       InputPiece p{h, std::vector<double>(values[k].size())};
       for (std::size_t i = 0; i < p.u.size(); ++i) p.u[i] = linear_value(values[k][i], values[k + 1][i], w);
+      if (weights) weights->push_back({k, 1.0 - w, w});
       pieces.push_back(std::move(p));
     }
   }
@@ -43,12 +45,17 @@ std::optional<SampledSignalProblem> sampled_signal_problem(std::span<const doubl
 }
 
 std::vector<InputPiece> sampled_signal_pieces(std::span<const double> times, std::vector<std::vector<double>> values,
-                                              const Box& box, double linear_step) {
+                                              const Box& box, double linear_step,
+                                              std::vector<ControlWeights>* weights) {
   for (auto& u : values)
     for (std::size_t i = 0; i < box.dim() && i < u.size(); ++i) u[i] = std::clamp(u[i], box.lo[i], box.hi[i]);
-  if (linear_step > 0.0) return linear_signal_pieces(times, values, linear_step);
+  if (linear_step > 0.0) return linear_signal_pieces(times, values, linear_step, weights);
   std::vector<InputPiece> pieces;
-  for (std::size_t k = 0; k + 1 < times.size(); ++k) pieces.push_back({times[k + 1] - times[k], std::move(values[k])});
+  if (weights) weights->clear();
+  for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+    pieces.push_back({times[k + 1] - times[k], std::move(values[k])});
+    if (weights) weights->push_back({k, 1.0, 0.0});
+  }
   return pieces;
 }
 

@@ -26,8 +26,9 @@ inline double linear_value(double a, double b, double w) {
   return a <= b ? (v < a ? a : v > b ? b : v) : (v < b ? b : v > a ? a : v);
 }
 
+// weights, when given, receives each piece's ControlWeights (signal_model.hpp).
 std::vector<InputPiece> linear_signal_pieces(std::span<const double> times, std::span<const std::vector<double>> values,
-                                             double step);
+                                             double step, std::vector<ControlWeights>* weights = nullptr);
 
 // An input signal given at samples, as `hyfal simulate` reads it from a CSV and the Python module
 // from arrays: values[k] (one per input) at times[k]; held from times[k] to times[k + 1] (zoh), or,
@@ -44,7 +45,8 @@ std::optional<SampledSignalProblem> sampled_signal_problem(std::span<const doubl
                                                            std::span<const std::vector<double>> values, const Box& box);
 // The pieces of a signal sampled_signal_problem accepts (values clamped into `box`).
 std::vector<InputPiece> sampled_signal_pieces(std::span<const double> times, std::vector<std::vector<double>> values,
-                                              const Box& box, double linear_step);
+                                              const Box& box, double linear_step,
+                                              std::vector<ControlWeights>* weights = nullptr);
 // The pieces a linear signal is cut into for `info`'s system: its integrator's (largest) step.
 double linear_piece_step(const SystemInfo& info);
 // The input `name` names: an input's name or an alias the suite declares (SystemInfo::input_aliases,

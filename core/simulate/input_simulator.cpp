@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/simulate/difference_quotient.hpp"
 #include "core/simulate/held_input.hpp"
 
 namespace hyfal::stl {
@@ -43,6 +44,46 @@ class AllSignals final : public SampleSink {
   std::span<const double> u_;
 };
 
+// Records, beside AllSignals' signals, each sample's augmented state z = [x | S | T], mode and
+// input piece (TangentPropagator, core/model/system.hpp), for signal_tangent.
+class TangentSamples final : public SampleSink {
+ public:
+  // keep: the samples whose z is recorded (sorted; empty: every one); a sample at the same time as
+  // the one before it is recorded with it (a reset's after-state, whose T the one before reads).
+  TangentSamples(AllSignals& signals, const std::vector<double>& time, std::size_t n, std::span<const std::size_t> keep,
+                 std::vector<double>& z, std::vector<std::size_t>& slot, std::vector<Mode>& modes,
+                 std::vector<std::uint32_t>& pieces)
+      : signals_(signals), time_(time), n_(n), keep_(keep), z_(z), slot_(slot), modes_(modes), pieces_(pieces) {}
+  void set_piece(std::uint32_t piece) { piece_ = piece; }
+  void sample(double t, Mode q, std::span<const double> z, double safety) override {
+    const std::size_t i = slot_.size();
+    signals_.sample(t, q, z.first(n_), safety);
+    while (next_ < keep_.size() && keep_[next_] < i) ++next_;
+    const bool with_previous = i > 0 && slot_.back() != SIZE_MAX && time_[i] == time_[i - 1];
+    if (keep_.empty() || (next_ < keep_.size() && keep_[next_] == i) || with_previous) {
+      slot_.push_back(z_.size() / z.size());
+      z_.insert(z_.end(), z.begin(), z.end());
+    } else {
+      slot_.push_back(SIZE_MAX);
+    }
+    modes_.push_back(q);
+    pieces_.push_back(piece_);
+  }
+  bool samples_unsafe_entries() const override { return signals_.samples_unsafe_entries(); }
+
+ private:
+  AllSignals& signals_;
+  const std::vector<double>& time_;
+  std::size_t n_;
+  std::span<const std::size_t> keep_;
+  std::size_t next_ = 0;
+  std::vector<double>& z_;
+  std::vector<std::size_t>& slot_;
+  std::vector<Mode>& modes_;
+  std::vector<std::uint32_t>& pieces_;
+  std::uint32_t piece_ = 0;
+};
+
 }  // namespace
 
 struct InputSimulator::Impl {
@@ -60,18 +101,44 @@ struct InputSimulator::Impl {
   bool interrupted = false;
   std::vector<std::vector<double>> outputs;
 
+  // Tangents (run_with_tangents): the propagator for `variables` search variables, the augmented
+  // input of the current piece, and every sample's z, mode and piece; the pieces' inputs, weights
+  // and end times, and p, for signal_tangent.
+  std::unique_ptr<TangentPropagator> tangent;
+  std::size_t variables = 0;
+  std::vector<double> augmented_input;
+  std::vector<double> sample_z;
+  std::vector<std::size_t> sample_slot;  // per sample: its z's place in sample_z, SIZE_MAX if not kept
+  std::vector<Mode> sample_mode;
+  std::vector<std::uint32_t> sample_piece;
+  std::vector<std::vector<double>> piece_u;
+  std::vector<ControlWeights> piece_weights;
+  std::vector<double> piece_end;
+  std::vector<double> parameters;
+  std::vector<double> scratch_x, scratch_u, scratch_y, scratch_y2, scratch_f, moving;
+
   const SimulatedTrace& run_model(std::span<const InputPiece> pieces, std::span<const double> p);
+  // The loop run() and run_with_tangents() share: each piece held through hold_input, from x (the
+  // initial state, or z), its input given by input(k) (the piece's, or the augmented one).
+  template <class PieceInput>
+  void drive(Propagator& prop, SampleSink& sink, AllSignals& signals, std::span<const InputPiece> pieces,
+             std::span<const double> p, PieceInput&& input);
+  void check_pieces(std::span<const InputPiece> pieces) const;
+  void clear_trace();
 };
 
 InputSimulator::InputSimulator(const System& system) : impl_(std::make_unique<Impl>(system)) {}
 InputSimulator::~InputSimulator() = default;
 void InputSimulator::set_interrupt(PropagationInterrupt interrupt) {
-  if (impl_->prop)
-    impl_->prop->set_interrupt(std::move(interrupt));
-  else
-    impl_->interrupt = std::move(interrupt), impl_->interrupted = false;
+  impl_->interrupt = std::move(interrupt);
+  impl_->interrupted = false;
+  if (impl_->prop) impl_->prop->set_interrupt(impl_->interrupt);
+  if (impl_->tangent) impl_->tangent->propagator().set_interrupt(impl_->interrupt);
 }
-bool InputSimulator::interrupted() const { return impl_->prop ? impl_->prop->interrupted() : impl_->interrupted; }
+bool InputSimulator::interrupted() const {
+  if (!impl_->prop) return impl_->interrupted;
+  return impl_->prop->interrupted() || (impl_->tangent && impl_->tangent->propagator().interrupted());
+}
 const SimulatedTrace& InputSimulator::trace() const { return impl_->trace; }
 
 // A signal model's trace: its outputs at its samples, the input held at each (at a piece's end,
@@ -119,8 +186,7 @@ const SimulatedTrace& InputSimulator::Impl::run_model(std::span<const InputPiece
   return trace;
 }
 
-const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, std::span<const double> p) {
-  const System& system = impl_->system;
+void InputSimulator::Impl::check_pieces(std::span<const InputPiece> pieces) const {
   const SystemInfo& info = system.info();
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     if (pieces[i].u.size() != info.input_names.size())
@@ -130,7 +196,9 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
       throw std::invalid_argument(
           fmt::format("input piece {}: duration {} is not a finite number >= 0", i, pieces[i].duration));
   }
-  SimulatedTrace& trace = impl_->trace;
+}
+
+void InputSimulator::Impl::clear_trace() {
   trace.time.clear();
   for (auto& s : trace.signals) s.clear();
   trace.end = PropagationEnd::completed;
@@ -138,29 +206,32 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
   trace.integration_steps = 0;
   trace.transitions = 0;
   trace.piece_ends.clear();
-  if (impl_->model) return impl_->run_model(pieces, p);
-  AllSignals sink(system, trace, p);
-  Propagator& prop = *impl_->prop;
+}
+
+template <class PieceInput>
+void InputSimulator::Impl::drive(Propagator& prop, SampleSink& sink, AllSignals& signals,
+                                 std::span<const InputPiece> pieces, std::span<const double> p, PieceInput&& input) {
+  const SystemInfo& info = system.info();
   prop.set_trace(&sink);
   Mode q = info.initial_mode;
-  std::vector<double>& x = impl_->x;
-  std::vector<double>& next = impl_->next;
-  x = info.initial_state;
   next.resize(x.size());
-  impl_->no_input.assign(info.input_names.size(), 0.0);
-  sink.begin(0.0, pieces.empty() ? std::span<const double>(impl_->no_input) : std::span<const double>(pieces[0].u));
+  no_input.assign(info.input_names.size(), 0.0);
+  signals.begin(0.0, pieces.empty() ? std::span<const double>(no_input) : std::span<const double>(pieces[0].u));
+  if (!pieces.empty()) (void)input(0);
   sink.sample(0.0, q, x, std::nan(""));  // the first sample, with the first piece's input
   double t = 0.0;
-  for (const InputPiece& piece : pieces) {
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const InputPiece& piece = pieces[k];
+    const std::span<const double> u = input(k);
     const HeldInputEnd e = hold_input(
-        prop, q, x, next, piece.u, p, t, piece.duration,
+        prop, q, x, next, u, p, t, piece.duration,
         [&](double now, Mode at) {
           if (!system.inputs(at).box.contains(piece.u)) {
             trace.problem =
                 fmt::format("at t = {:.6g} the input lies outside the input box of mode {}", now, system.mode_name(at));
             return false;
           }
-          sink.begin(now, piece.u);
+          signals.begin(now, piece.u);
           return true;
         },
         [&](const PropagationResult& r, Mode, std::span<const double>, double) {
@@ -176,7 +247,167 @@ const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, st
     trace.piece_ends.push_back(trace.time.size());
   }
   prop.set_trace(nullptr);
-  return trace;
+}
+
+const SimulatedTrace& InputSimulator::run(std::span<const InputPiece> pieces, std::span<const double> p) {
+  impl_->check_pieces(pieces);
+  impl_->clear_trace();
+  if (impl_->model) return impl_->run_model(pieces, p);
+  AllSignals sink(impl_->system, impl_->trace, p);
+  impl_->x = impl_->system.info().initial_state;
+  impl_->drive(*impl_->prop, sink, sink, pieces, p, [&](std::size_t k) { return std::span<const double>(pieces[k].u); });
+  return impl_->trace;
+}
+
+bool InputSimulator::has_tangents() const {
+  if (impl_->model) return false;
+  if (!impl_->tangent) impl_->tangent = impl_->system.make_tangent_propagator(0);
+  return impl_->tangent != nullptr;
+}
+
+std::size_t InputSimulator::variables() const { return impl_->variables; }
+
+const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPiece> pieces,
+                                                        std::span<const ControlWeights> weights, std::size_t points,
+                                                        std::span<const double> p, std::span<const std::size_t> keep) {
+  Impl& d = *impl_;
+  d.check_pieces(pieces);
+  if (weights.size() != pieces.size())
+    throw std::invalid_argument(fmt::format("{} control weights for {} input pieces", weights.size(), pieces.size()));
+  for (std::size_t k = 0; k < weights.size(); ++k)
+    if (weights[k].point + (weights[k].next != 0.0 ? 1 : 0) >= points)
+      throw std::invalid_argument(fmt::format("input piece {} reads control point {}, past the {} points", k,
+                                              weights[k].point + (weights[k].next != 0.0 ? 1 : 0), points));
+  if (d.model) throw std::logic_error("a model known only by its simulations has no tangents");
+  const SystemInfo& info = d.system.info();
+  const std::size_t m = info.input_names.size(), n = info.initial_state.size();
+  const std::size_t vars = points * m;
+  if (!d.tangent || d.variables != vars) {
+    d.tangent = d.system.make_tangent_propagator(vars);
+    d.variables = vars;
+    if (d.tangent) d.tangent->propagator().set_interrupt(d.interrupt);
+  }
+  if (!d.tangent) throw std::logic_error("this system has no tangents (gradients need a model integrated by RK4)");
+  d.clear_trace();
+  d.sample_z.clear();
+  d.sample_slot.clear();
+  d.sample_mode.clear();
+  d.sample_piece.clear();
+  d.piece_u.assign(pieces.size(), {});
+  d.piece_weights.assign(weights.begin(), weights.end());
+  d.piece_end.resize(pieces.size());
+  double end = 0.0;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    d.piece_u[k] = pieces[k].u;
+    end += pieces[k].duration;
+    d.piece_end[k] = end;
+  }
+  d.parameters.assign(p.begin(), p.end());
+  AllSignals signals(d.system, d.trace, p);
+  TangentSamples sink(signals, d.trace.time, n, keep, d.sample_z, d.sample_slot, d.sample_mode, d.sample_piece);
+  d.x.assign(n * (1 + vars) + vars, 0.0);
+  std::copy(info.initial_state.begin(), info.initial_state.end(), d.x.begin());
+  d.augmented_input.assign(m * (1 + vars), 0.0);
+  std::size_t active = 0;
+  std::size_t last = SIZE_MAX;
+  d.drive(d.tangent->propagator(), sink, signals, pieces, p, [&](std::size_t k) {
+    if (k != last) {  // a piece's start: its input and input tangent, and T = 0 (its start time is fixed)
+      last = k;
+      sink.set_piece(static_cast<std::uint32_t>(k));
+      std::fill(d.augmented_input.begin(), d.augmented_input.end(), 0.0);
+      std::copy(pieces[k].u.begin(), pieces[k].u.end(), d.augmented_input.begin());
+      const ControlWeights& w = weights[k];
+      for (std::size_t j = 0; j < m; ++j) {
+        d.augmented_input[m + (w.point * m + j) * m + j] = w.here;
+        if (w.next != 0.0) d.augmented_input[m + ((w.point + 1) * m + j) * m + j] = w.next;
+      }
+      active = std::max(active, (w.point + 1 + (w.next != 0.0 ? 1 : 0)) * m);
+      d.tangent->set_active_variables(active);
+      std::fill(d.x.end() - static_cast<std::ptrdiff_t>(vars), d.x.end(), 0.0);
+    }
+    return std::span<const double>(d.augmented_input);
+  });
+  return d.trace;
+}
+
+void InputSimulator::signal_tangent(std::size_t signal, std::size_t sample, std::span<double> out) {
+  Impl& d = *impl_;
+  const SystemInfo& info = d.system.info();
+  const std::size_t m = info.input_names.size(), n = info.initial_state.size(), vars = d.variables;
+  const std::size_t outputs = info.outputs.size();
+  const std::size_t samples = d.sample_mode.size();
+  if (sample >= samples || signal > outputs + m || out.size() != vars)
+    throw std::invalid_argument(fmt::format("signal_tangent: signal {} at sample {} of {} ({} values for {} variables)",
+                                            signal, sample, samples, out.size(), vars));
+  const std::size_t dz = n * (1 + vars) + vars;
+  if (d.sample_slot[sample] == SIZE_MAX)
+    throw std::logic_error(fmt::format("signal_tangent: sample {} was not kept by run_with_tangents", sample));
+  const double* z = d.sample_z.data() + d.sample_slot[sample] * dz;
+  const Mode q = d.sample_mode[sample];
+  const std::size_t piece = d.sample_piece[sample];
+  const std::vector<double>& u = d.piece_u.empty() ? d.no_input : d.piece_u[piece];
+  const ControlWeights w = d.piece_weights.empty() ? ControlWeights{} : d.piece_weights[piece];
+  // ∂u_j/∂c_v of the sample's piece.
+  auto input_tangent = [&](std::size_t v, std::size_t j) {
+    if (d.piece_weights.empty() || v % m != j) return 0.0;
+    const std::size_t point = v / m;
+    return point == w.point ? w.here : point == w.point + 1 ? w.next : 0.0;
+  };
+  if (signal >= outputs && signal < outputs + m) {
+    for (std::size_t v = 0; v < vars; ++v) out[v] = input_tangent(v, signal - outputs);
+    return;
+  }
+  // The time tangent of the sample: T, unless it stands at its piece's end (a fixed time); the
+  // state before a reset takes the one after it (the same instant, whose T the jump set).
+  const double time = d.trace.time[sample];
+  const bool piece_end = !d.piece_end.empty() && std::abs(time - d.piece_end[piece]) <= 1e-12 * std::max(1.0, time);
+  std::size_t from = sample;
+  while (from + 1 < samples && d.trace.time[from + 1] == time) ++from;
+  const double* tt = d.sample_z.data() + d.sample_slot[from] * dz + n * (1 + vars);
+  // dx_v = S_v + f T_v.
+  d.moving.assign(z + n, z + n + n * vars);
+  if (!piece_end) {
+    d.scratch_f.resize(n);
+    d.system.derivative(q, std::span<const double>(z, n), u, d.parameters, d.scratch_f);
+    for (std::size_t v = 0; v < vars; ++v)
+      if (tt[v] != 0.0)
+        for (std::size_t i = 0; i < n; ++i) d.moving[v * n + i] += d.scratch_f[i] * tt[v];
+  }
+  // The signal's slopes in x (and u) by central differences, then the chain rule.
+  d.scratch_x.assign(z, z + n);
+  d.scratch_u.assign(u.begin(), u.end());
+  d.scratch_y.resize(outputs);
+  d.scratch_y2.resize(outputs);
+  auto value = [&](std::vector<double>& y) {
+    if (signal == outputs + m) return d.system.spec(q, d.scratch_x, d.parameters);
+    d.system.outputs(q, d.scratch_x, d.scratch_u, d.parameters, y);
+    return y[signal];
+  };
+  std::fill(out.begin(), out.end(), 0.0);
+  const double y0 = value(d.scratch_y);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double h = difference_step(z[i]);
+    d.scratch_x[i] = z[i] + h;
+    const double a = value(d.scratch_y);
+    d.scratch_x[i] = z[i] - h;
+    const double b = value(d.scratch_y2);
+    d.scratch_x[i] = z[i];
+    const double slope = difference_quotient(b, y0, a, h);
+    if (slope == 0.0) continue;
+    for (std::size_t v = 0; v < vars; ++v) out[v] += slope * d.moving[v * n + i];
+  }
+  if (signal < outputs)
+    for (std::size_t j = 0; j < m; ++j) {
+      const double h = difference_step(u[j]);
+      d.scratch_u[j] = u[j] + h;
+      const double a = value(d.scratch_y);
+      d.scratch_u[j] = u[j] - h;
+      const double b = value(d.scratch_y2);
+      d.scratch_u[j] = u[j];
+      const double slope = difference_quotient(b, y0, a, h);
+      if (slope == 0.0) continue;
+      for (std::size_t v = 0; v < vars; ++v) out[v] += slope * input_tangent(v, j);
+    }
 }
 
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {

@@ -30,6 +30,28 @@ class InputSimulator {
   ~InputSimulator();
   // The trace of `pieces`, valid until the next run.
   const SimulatedTrace& run(std::span<const InputPiece> pieces, std::span<const double> p);
+  // The same simulation, with the tangents of every state with respect to the signal's control
+  // points (core/simulate/tangent_model.hpp): weights[k] says how piece k's input depends on them
+  // (ControlWeights), `points` control points of m inputs, so points × m search variables (point k's
+  // input j is variable k m + j). The trace is run()'s, bit for bit. Throws std::logic_error when
+  // the system has no tangents (has_tangents()), std::invalid_argument as run() does and for one
+  // weight per piece missing or a point past `points`. keep: the samples signal_tangent will be
+  // asked for, in increasing order (empty: every one); only theirs are recorded, the rest of each
+  // sample's n (1 + P) + P numbers is not kept (SC: 59 MB a simulation otherwise).
+  const SimulatedTrace& run_with_tangents(std::span<const InputPiece> pieces, std::span<const ControlWeights> weights,
+                                          std::size_t points, std::span<const double> p,
+                                          std::span<const std::size_t> keep = {});
+  // Whether the system propagates tangents (an RK4 model; not a black box).
+  bool has_tangents() const;
+  // The search variables of the last run_with_tangents.
+  std::size_t variables() const;
+  // After run_with_tangents: the derivative of signal `signal` (system_signals order) at sample
+  // `sample` with respect to every search variable, into out (variables() values). It is the
+  // sample's total derivative: a sample whose time moves with the inputs (after a state event,
+  // until its input piece ends) moves along the flow (tangent_model.hpp), as a finite difference of
+  // the simulation sees it. Output and safety slopes are central differences of M::outputs and
+  // M::spec at the sample.
+  void signal_tangent(std::size_t signal, std::size_t sample, std::span<double> out);
   // The last run's trace (empty before the first).
   const SimulatedTrace& trace() const;
   // A trial's deadline and cancellation, which also end a simulation in flight (its end is then

@@ -9,6 +9,7 @@
 
 #include "core/model/system.hpp"
 #include "core/simulate/model_propagator.hpp"
+#include "core/simulate/tangent_model.hpp"
 
 namespace hyfal {
 
@@ -90,6 +91,12 @@ class ModelSystem final : public System {
     return std::make_unique<ModelPropagator<M>>(model_, s);
   }
   using System::make_propagator;
+  std::unique_ptr<TangentPropagator> make_tangent_propagator(std::size_t variables,
+                                                             const IntegratorSettings& s) const override {
+    if (s.kind != IntegratorKind::rk4) return nullptr;  // tangent_model.hpp: RK4 only
+    return std::make_unique<ModelTangentPropagator<M>>(model_, info_.input_names.size(), variables, s);
+  }
+  using System::make_tangent_propagator;
   const Decomposition* decomposition() const override {
     if constexpr (requires {
                     { model_.decomposition() } -> std::convertible_to<const Decomposition*>;

@@ -59,10 +59,11 @@ std::vector<MatrixInstance> instances() {
   return out;
 }
 
-// The optimisation falsifiers (core/planners/optimizers/): they minimise an STL requirement's
-// robustness, so a reachability instance is refused.
+// The optimisation falsifiers (core/planners/optimizers/, and the gradient descent): they minimise
+// an STL requirement's robustness, so a reachability instance is refused.
 bool is_optimizer(const MethodEntry& m) {
-  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" || m.name.starts_with("adaptive");
+  return m.name == "random" || m.name == "annealing" || m.name == "cmaes" || m.name == "nelder-mead" ||
+         m.name.starts_with("adaptive") || m.name == "gradient";
 }
 
 std::string describe(const MatrixInstance& in, const MethodEntry& m) {

@@ -926,6 +926,11 @@ class TinyStep final : public System {
     return inner_->make_propagator(s);
   }
   using System::make_propagator;
+  std::unique_ptr<TangentPropagator> make_tangent_propagator(std::size_t variables,
+                                                             const IntegratorSettings& s) const override {
+    return inner_->make_tangent_propagator(variables, s);
+  }
+  using System::make_tangent_propagator;
   const Decomposition* decomposition() const override { return inner_->decomposition(); }
 
  private:
