@@ -42,7 +42,9 @@
 //    Optional: `static constexpr std::array<int, K> flow_unread = {...};` the components the flow
 //    never reads in any mode (time, clocks): ROS34PW2 then sets their Jacobian columns to 0 instead
 //    of differencing the flow (a declaration that is wrong gives a wrong Jacobian, which a W-method
-//    survives with a larger error; core/simulate/rosenbrock.hpp).
+//    survives with a larger error; core/simulate/rosenbrock.hpp), and the tangents skip them
+//    (core/simulate/tangent_model.hpp; there a wrong declaration gives wrong gradients, which the
+//    finite-difference tests would show).
 //  - invariant(q, x; p) false: the flow stops at the last valid state (seed 002 Alg. 3).
 //  - spec(q, x; p) <= 0 is unsafe. Crossing into it is localized like an event. Optional:
 //    `bool outside_unsafe(q, x, p)`, exactly spec(q, x, p) > 0 but cheaper (no distance); the

@@ -196,6 +196,8 @@ class Transmission {
  public:
   enum Controller : Mode { kSteady = 0, kUpshifting = 1, kDownshifting = 2 };
   static constexpr int kNe = 0, kNw = 1, kTime = 2, kClock = 3;
+  // The flow reads Ne and Nw only: the tangents skip the other two Jacobian columns (model.hpp).
+  static constexpr std::array<int, 2> flow_unread = {kTime, kClock};
 
   Transmission(double horizon, int levels) : horizon_(horizon), inputs_(InputSet::grid({{0.0, 0.0}, {100.0, 325.0}}, levels)) {}
 

@@ -93,6 +93,9 @@ class ChasingCars {
  public:
   static constexpr bool input_affine = true;  // v1' = −u1 − u2 v1
   static constexpr bool guards_affine = true;  // a gap minus a threshold
+  // The flow reads the velocities only (model.hpp): the tangents skip the positions' and time's
+  // Jacobian columns.
+  static constexpr std::array<int, kCars + 1> flow_unread = {0, 1, 2, 3, 4, kTime};
 
   ChasingCars(double horizon, bool keeping_backward, int levels)
       : horizon_(horizon), keeping_sign_(keeping_backward ? 1.0 : -1.0),
