@@ -55,6 +55,11 @@ void check_method_for_system(const MethodEntry& method, const System& system) {
         "({}); use {}",
         info.suite, fmt::join(info.parameter_names, ", "), methods_that(&MethodEntry::searches_parameters)));
   }
+  if (method.needs_tangents && (system.signal_model() || !system.make_tangent_propagator(0)))
+    throw std::invalid_argument(fmt::format(
+        "method '{}' needs the model's tangents, which suite '{}' has not (a black box, or an integrator other than "
+        "RK4: its step-size control would see them)",
+        method.name, info.suite));
 }
 
 }  // namespace hyfal

@@ -102,11 +102,13 @@ void SignalSimulations::simulate(SignalSlot& slot) const {
   finish(slot, trace);
 }
 
-void SignalSimulations::simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient) const {
+void SignalSimulations::simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient,
+                                               stl::CriticalPath path) const {
   const std::vector<stl::InputPiece>& pieces = driving_pieces(slot);
   gradient.resize(control_points() * system_.info().input_names.size());
   const double rho =
-      slot.monitor.robustness_gradient(slot.simulator, pieces, weights_, control_points(), slot.parameters, gradient);
+      slot.monitor.robustness_gradient(slot.simulator, pieces, weights_, control_points(), slot.parameters, gradient,
+                                       path);
   finish(slot, slot.simulator.trace());
   if (!slot.interrupted && slot.problem.empty())
     slot.rho = rho;

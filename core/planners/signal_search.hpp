@@ -108,7 +108,8 @@ class SignalSimulations {
   // (constant: piece by piece; linear: `start`, then the end of each piece), input by input. One
   // simulation, counted by account() as any other. Throws std::logic_error for a system without
   // tangents (InputSimulator::has_tangents).
-  void simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient) const;
+  void simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient,
+                              stl::CriticalPath path = stl::CriticalPath::attaining) const;
   // The signal's control points: K, or K + 1 for a linear signal.
   std::size_t control_points() const { return pieces_ + (shape_ == InputShape::linear ? 1 : 0); }
   // The samples of `trace` (a slot's last simulation) up to the end of its first `pieces` pieces

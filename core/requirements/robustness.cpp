@@ -300,9 +300,68 @@ void OfflineMonitor::apply(const FormulaNode& node, const double* l, const doubl
   for (std::size_t i = 0; i < n; ++i) out[i] = std::min(out[i], phi_before[i]);
 }
 
-void OfflineMonitor::critical_samples(std::vector<SampleWeight>& out) {
+void OfflineMonitor::critical_samples(std::vector<SampleWeight>& out, CriticalPath path) {
   if (!exact_ || n_ == 0) throw std::logic_error("critical_samples: call robustness_at_every_sample first");
+  path_ = path;
+  // Nested spreads multiply (a max window inside a max window): past this many visits the rest
+  // follow the attaining path, which bounds the work by about this many samples.
+  spread_left_ = 200000;
   critical_node(formula_.root(), 0, 1.0, out);
+}
+
+double OfflineMonitor::atom_scale(int k) const {
+  const FormulaNode& node = formula_.nodes[k];
+  double scale = 0.0;
+  std::vector<int> stack{node.lhs, node.rhs};
+  while (!stack.empty()) {
+    const int e = stack.back();
+    stack.pop_back();
+    if (e < 0) continue;
+    const ExpressionNode& x = formula_.expressions[e];
+    if (x.kind == ExpressionNode::Kind::constant) scale = std::max(scale, std::abs(x.value));
+    stack.push_back(x.left);
+    stack.push_back(x.right);
+  }
+  return scale > 0.0 ? scale : 1.0;
+}
+
+bool OfflineMonitor::critical_spread(int k, std::size_t i, double w, std::vector<SampleWeight>& out) {
+  const FormulaNode& node = formula_.nodes[k];
+  const double v = row(k)[i];
+  const bool is_max =
+      node.op == Operator::disjunction || node.op == Operator::implication || node.op == Operator::eventually;
+  const bool is_min = node.op == Operator::conjunction || node.op == Operator::always;
+  // A max that must fall and stands above 0, or a min that must rise and stands below 0.
+  const bool blocking = (is_max && w > 0.0 && v > 0.0) || (is_min && w < 0.0 && v < 0.0);
+  if (!blocking || spread_left_ == 0) return false;
+  const auto wrong_side = [&](double x) { return w > 0.0 ? x > 0.0 : x < 0.0; };
+  const auto follow = [&](int child, std::size_t j, double weight) {
+    if (spread_left_ > 0) --spread_left_;
+    critical_node(child, j, weight, out);
+  };
+  switch (node.op) {
+    case Operator::conjunction:
+    case Operator::disjunction:
+      for (int child : {node.left, node.right})
+        if (wrong_side(row(child)[i])) follow(child, i, w);
+      return true;
+    case Operator::implication:  // max(−l, r)
+      if (wrong_side(-row(node.left)[i])) follow(node.left, i, -w);
+      if (wrong_side(row(node.right)[i])) follow(node.right, i, w);
+      return true;
+    default: {
+      // A window's samples share their units: their mean, so that a long violation does not
+      // outweigh the other operands of a -> by its length.
+      std::vector<std::size_t> start, end;
+      temporal_windows(time_, node.lo, node.hi, start, end, i + 1);
+      const double* l = row(node.left);
+      std::size_t count = 0;
+      for (std::size_t j = start[i]; j <= end[i]; ++j) count += wrong_side(l[j]) ? 1 : 0;
+      for (std::size_t j = start[i]; j <= end[i]; ++j)
+        if (wrong_side(l[j])) follow(node.left, j, w / static_cast<double>(count));
+      return true;
+    }
+  }
 }
 
 void OfflineMonitor::critical_expression(int e, std::size_t i, double w, std::vector<SampleWeight>& out) const {
@@ -338,6 +397,9 @@ void OfflineMonitor::critical_expression(int e, std::size_t i, double w, std::ve
 void OfflineMonitor::critical_node(int k, std::size_t i, double w, std::vector<SampleWeight>& out) {
   const FormulaNode& node = formula_.nodes[k];
   const double v = row(k)[i];
+  if (path_ == CriticalPath::every_blocking && node.op != Operator::compare && node.op != Operator::negation &&
+      node.op != Operator::until && critical_spread(k, i, w, out))
+    return;
   switch (node.op) {
     case Operator::compare: {
       const double d = expression_row(node.lhs)[i] - expression_row(node.rhs)[i];
@@ -358,6 +420,9 @@ void OfflineMonitor::critical_node(int k, std::size_t i, double w, std::vector<S
           wl = d < 0.0 ? -1.0 : 1.0;
           break;
       }
+      // every_blocking: each atom in units of its threshold (AT6a's 3000 rpm and 35 mph), so that
+      // the terms of a -> or an `and` weigh alike.
+      if (path_ == CriticalPath::every_blocking) w /= atom_scale(k);
       critical_expression(node.lhs, i, wl * w, out);
       critical_expression(node.rhs, i, -wl * w, out);
       return;

@@ -76,6 +76,19 @@ struct SampleWeight {
   double weight = 0.0;
 };
 
+// How critical_samples follows a min or a max.
+//  attaining: into the operand (or window sample) that attains it: a subgradient of ρ.
+//  every_blocking: a descent direction for falsification, not a gradient. ρ(φ, 0) < 0 needs, along
+//    the path, every max that must fall (its weight > 0) below 0, so all its operands; and every min
+//    that must rise (weight < 0: under a negation, or the left of ->) above 0, so all its operands.
+//    There every operand on the wrong side of 0 is followed (the gradient of the sum of their
+//    distances to 0; a window's samples by their mean); elsewhere, and where the node is already on
+//    the right side, the attaining one. Each atom counts in units of its threshold (its largest
+//    |constant|). Why: the subgradient of a max of positive terms lowers one term, which a
+//    corner-reaching step then trades for another (AT6a: the speed against the engine's peak); the
+//    sum lowers them together, and the units keep 3000 rpm from drowning 35 mph.
+enum class CriticalPath { attaining, every_blocking };
+
 // Evaluates one formula on traces. Its buffers are kept between calls, so monitoring traces of
 // similar length allocates nothing after the first.
 class OfflineMonitor {
@@ -101,7 +114,7 @@ class OfflineMonitor {
   // such in formula and time order; an atom's affine expression gives each signal its coefficient
   // (abs: the sign of its argument). ρ is piecewise affine in the values, so where no min or max
   // ties this is its gradient.
-  void critical_samples(std::vector<SampleWeight>& out);
+  void critical_samples(std::vector<SampleWeight>& out, CriticalPath path = CriticalPath::attaining);
   // After robustness_at_every_sample(): ρ of node `node` (a FormulaNode index) at every sample.
   std::span<const double> node_signal(int node) const;
   // After robustness_interval() of a prefix: node `node`'s lower and upper rows, n + 1 values (the
@@ -119,6 +132,11 @@ class OfflineMonitor {
   void evaluate(int node, std::size_t count);
   void evaluate_interval(int node, std::size_t known);
   void critical_node(int node, std::size_t sample, double weight, std::vector<SampleWeight>& out);
+  // every_blocking: the operands on the wrong side of 0 (see CriticalPath); false where the node
+  // takes the attaining path.
+  bool critical_spread(int node, std::size_t sample, double weight, std::vector<SampleWeight>& out);
+  // The largest |constant| of a comparison's two sides (1 without one): the atom's unit.
+  double atom_scale(int node) const;
   void critical_expression(int expression, std::size_t sample, double weight, std::vector<SampleWeight>& out) const;
   void compare(const FormulaNode& node, double* out, std::size_t count) const;
   // out = the operator `node.op` applied to the rows l, r over the first `count` samples
@@ -143,6 +161,8 @@ class OfflineMonitor {
   std::vector<std::size_t> start_, end_;  // each window's first sample and one past its last
   std::vector<std::size_t> index_;        // until: 0, 1, ..., n − 1 (the lower ends of [i, s(i)))
   std::vector<std::size_t> needed_;       // robustness(): the samples each node is evaluated at
+  CriticalPath path_ = CriticalPath::attaining;  // critical_samples' current path
+  std::size_t spread_left_ = 0;           // every_blocking: visits left before it falls back to attaining
 };
 
 // The window [s(i), e(i)] of every sample for the interval [a, b] (see above): O(n) with two

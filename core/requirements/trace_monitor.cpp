@@ -45,7 +45,8 @@ Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t sa
 
 double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
                                          std::span<const ControlWeights> weights, std::size_t points,
-                                         std::span<const double> p, std::span<double> gradient) {
+                                         std::span<const double> p, std::span<double> gradient,
+                                         CriticalPath path) {
   const std::size_t vars = points * (pieces.empty() ? 0 : pieces[0].u.size());
   if (gradient.size() != vars)
     throw std::invalid_argument(
@@ -61,7 +62,19 @@ double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<co
   const std::size_t samples = plain.time.size();
   if (!plain.time.empty()) {
     rho = monitor_.robustness_at_every_sample(view(plain));
-    monitor_.critical_samples(critical_);
+    monitor_.critical_samples(critical_, path);
+    // One term per signal and sample (a spread path reaches a sample many times).
+    std::sort(critical_.begin(), critical_.end(), [](const SampleWeight& a, const SampleWeight& b) {
+      return a.sample != b.sample ? a.sample < b.sample : a.signal < b.signal;
+    });
+    std::size_t merged = 0;
+    for (const SampleWeight& c : critical_) {
+      if (merged > 0 && critical_[merged - 1].sample == c.sample && critical_[merged - 1].signal == c.signal)
+        critical_[merged - 1].weight += c.weight;
+      else
+        critical_[merged++] = c;
+    }
+    critical_.resize(merged);
     for (const SampleWeight& c : critical_) keep_.push_back(c.sample);
     std::sort(keep_.begin(), keep_.end());
     keep_.erase(std::unique(keep_.begin(), keep_.end()), keep_.end());

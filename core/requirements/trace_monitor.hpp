@@ -50,9 +50,10 @@ class TraceMonitor {
   // times their tangents (InputSimulator::signal_tangent). Two runs of `simulator`: the plain one
   // finds the critical samples, the one with tangents keeps only theirs (the same trace, bit for
   // bit, which stays in the simulator). NaN and a zero gradient for a trace without samples.
+  // path = every_blocking: a descent direction for falsification instead (CriticalPath).
   double robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
                              std::span<const ControlWeights> weights, std::size_t points, std::span<const double> p,
-                             std::span<double> gradient);
+                             std::span<double> gradient, CriticalPath path = CriticalPath::attaining);
 
  private:
   // The requirement's signals of the trace's first `samples` samples (all: SIZE_MAX), as the

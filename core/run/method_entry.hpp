@@ -30,11 +30,15 @@ struct MethodEntry {
   // when P has width (RRFT's seeds; the signal searches' decision vectors); the others run at the
   // instance's p. A system with no inputs is searched only over P, so only such a method runs on it.
   bool searches_parameters = false;
+  // The method steps the model's tangents (System::make_tangent_propagator): a black box, or a
+  // model whose integrator cannot carry them, is not for it (a league cell "n/a", not an error).
+  bool needs_tangents = false;
 };
 
 // Throws std::invalid_argument (one line) when `method` cannot drive `system`: a tree method on a
 // model known only by its simulations (core/model/black_box.hpp), or a method that searches input
-// signals only on a system whose only freedom is its parameters P. Checked with the method's own
+// signals only on a system whose only freedom is its parameters P, or a method that needs tangents on
+// a system without them. Checked with the method's own
 // check_system before a run is written (app/runner.cpp, the Python module).
 void check_method_for_system(const MethodEntry& method, const System& system);
 

@@ -33,8 +33,9 @@ TEST(LeagueFile, TheCommittedLeagueReads) {
   ASSERT_TRUE(t->league.has_value());
   const TableLeague& l = *t->league;
   EXPECT_EQ(l.rows.size(), 45u);
-  EXPECT_EQ(l.columns.size(), 10u);
+  EXPECT_EQ(l.columns.size(), 11u);
   EXPECT_EQ(l.columns[9].method, "rrft");
+  EXPECT_EQ(l.columns[10].method, "gradient");
   EXPECT_EQ(l.rows.back().suite, "sc");
   EXPECT_EQ(l.columns[6].method, "adaptive");
   EXPECT_EQ(l.columns[7].method, "adaptive-local");

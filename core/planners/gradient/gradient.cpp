@@ -20,8 +20,11 @@ struct GradientOptions {
   std::int64_t budget;
   double horizon;  // 0: the requirement's
   InputShape shape;
-  double step;  // η
+  double eta;  // η (option `eta`: not `step`, which is the suites' δt)
   int patience;
+  bool halving;  // schedule = "halving": backtrack from the best point, halving η on a failed step
+  stl::CriticalPath path;  // direction
+  bool scaled;  // step_rule = "scaled": each value moves by η |g_i| / max |g| of its range
 };
 
 class GradientFalsifier final : public Planner {
@@ -52,19 +55,51 @@ class GradientFalsifier final : public Planner {
   }
 
   void search(SignalSimulations& sims, Rng& rng) const {
+    if (o_.halving)
+      search_halving(sims, rng);
+    else
+      search_sqrt(sims, rng);
+  }
+
+  // Moves x against the sign of g by η of each input's range, clamped to the box; false when
+  // nothing moved.
+  bool sign_step(const std::vector<double*>& x, const std::vector<double>& g, double eta, const Box& box) const {
+    const std::size_t m = box.dim();
+    bool moved = false;
+    double largest = 0.0;
+    if (o_.scaled)
+      for (std::size_t i = 0; i < x.size(); ++i)
+        if (std::isfinite(g[i])) largest = std::max(largest, std::abs(g[i]) * (box.hi[i % m] - box.lo[i % m]));
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (g[i] == 0.0 || !std::isfinite(g[i])) continue;
+      const std::size_t j = i % m;
+      const double range = box.hi[j] - box.lo[j];
+      const double size = o_.scaled ? eta * range * (std::abs(g[i]) * range / largest) : eta * range;
+      const double next = std::clamp(*x[i] - std::copysign(size, g[i]), box.lo[j], box.hi[j]);
+      moved = moved || next != *x[i];
+      *x[i] = next;
+    }
+    return moved;
+  }
+
+  static void randomize(const std::vector<double*>& x, const Box& box, Rng& rng) {
+    const std::size_t m = box.dim();
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (std::size_t i = 0; i < x.size(); ++i) *x[i] = box.lo[i % m] + unit(rng) * (box.hi[i % m] - box.lo[i % m]);
+  }
+
+  void search_sqrt(SignalSimulations& sims, Rng& rng) const {
     SignalSlot& slot = sims.slot(0);
     const std::vector<double*> x = control_values(slot, o_.shape);
     const Box& box = sims.input_box();
-    const std::size_t m = box.dim();
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<double> g;
     while (true) {
-      for (std::size_t i = 0; i < x.size(); ++i) *x[i] = box.lo[i % m] + unit(rng) * (box.hi[i % m] - box.lo[i % m]);
+      randomize(x, box, rng);
       double best = std::numeric_limits<double>::infinity();
       int stale = 0;
       for (int t = 1;; ++t) {
         sims.check_budget();
-        sims.simulate_with_gradient(slot, g);
+        sims.simulate_with_gradient(slot, g, o_.path);
         const double rho = sims.account(slot);  // throws SearchOver at a confirmed falsification
         if (rho < best) {
           best = rho;
@@ -72,17 +107,44 @@ class GradientFalsifier final : public Planner {
         } else if (++stale >= o_.patience) {
           break;
         }
-        const double eta = o_.step / std::sqrt(static_cast<double>(t));
-        bool moved = false;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-          if (g[i] == 0.0 || !std::isfinite(g[i])) continue;
-          const std::size_t j = i % m;
-          const double range = box.hi[j] - box.lo[j];
-          const double next = std::clamp(*x[i] - std::copysign(eta * range, g[i]), box.lo[j], box.hi[j]);
-          moved = moved || next != *x[i];
-          *x[i] = next;
+        if (!sign_step(x, g, o_.eta / std::sqrt(static_cast<double>(t)), box)) break;
+      }
+    }
+  }
+
+  // From the best point so far, a sign step of η; a step that does not lower ρ is taken back and
+  // η halved; after `patience` halvings in a row, or when a step no longer moves, a restart.
+  void search_halving(SignalSimulations& sims, Rng& rng) const {
+    SignalSlot& slot = sims.slot(0);
+    const std::vector<double*> x = control_values(slot, o_.shape);
+    const Box& box = sims.input_box();
+    std::vector<double> g, best_g, best_x(x.size());
+    while (true) {
+      randomize(x, box, rng);
+      sims.check_budget();
+      sims.simulate_with_gradient(slot, best_g, o_.path);
+      double best = sims.account(slot);
+      for (std::size_t i = 0; i < x.size(); ++i) best_x[i] = *x[i];
+      double eta = o_.eta;
+      int failed = 0;
+      while (failed < o_.patience) {
+        for (std::size_t i = 0; i < x.size(); ++i) *x[i] = best_x[i];
+        if (!sign_step(x, best_g, eta, box)) break;
+        sims.check_budget();
+        // The plain simulation first: a step that does not lower ρ needs no gradient (the run with
+        // tangents gives the same trace bit for bit, and is part of the one simulation counted).
+        sims.simulate(slot);
+        const double rho = sims.account(slot);
+        if (rho < best) {
+          sims.simulate_with_gradient(slot, g, o_.path);
+          best = rho;
+          best_g.swap(g);
+          for (std::size_t i = 0; i < x.size(); ++i) best_x[i] = *x[i];
+          failed = 0;
+        } else {
+          eta *= 0.5;
+          ++failed;
         }
-        if (!moved) break;
       }
     }
   }
@@ -93,11 +155,6 @@ class GradientFalsifier final : public Planner {
 void check_gradient_system(const System& system, const Json& options) {
   check_signal_system(system, options.at("horizon").get<double>(),
                       input_shape_of(options.at("input_shape").get<std::string>()), /*parameters=*/false);
-  if (system.signal_model() || !system.make_tangent_propagator(0))
-    throw std::invalid_argument(fmt::format(
-        "method gradient needs the model's tangents, which suite '{}' has not (a black box, or an integrator other "
-        "than RK4: its step-size control would see them)",
-        system.info().suite));
 }
 
 }  // namespace
@@ -108,20 +165,37 @@ MethodEntry gradient_method() {
           {{"budget", 1500, "simulations per run, each with its gradient (ARCH-COMP: 1500)", "[1, 100000000]"},
            {"horizon", 0.0, "length of the input signal, s (0: the requirement's horizon)", "[0, 1e6]"},
            input_shape_option(),
-           {"step", 1.0,
-            "η: a step moves each control value by η / sqrt(t) of its input's range against the gradient's sign (t: "
-            "steps since the last start; 1 reaches the box's corner, as zlscheck's huge step does)",
+           {"eta", 1.0,
+            "η: a step moves each control value by η (schedule sqrt: η / sqrt(t)) of its input's range against the "
+            "gradient's sign; 1 reaches the box's corner, as zlscheck's huge step does",
             "(0, 1]"},
-           {"patience", 3, "steps without a lower robustness before a random restart", "[1, 1000000]"}},
+           {"schedule", "halving",
+            "halving: each step from the best signal of the start, η halved after a step that did not lower ρ, a "
+            "restart after `patience` such steps in a row; sqrt: η / sqrt(t) from the last signal, a restart after "
+            "`patience` steps without a new best (zlscheck's)",
+            "halving|sqrt"},
+           {"patience", 3, "failed steps before a random restart (see schedule)", "[1, 1000000]"},
+           {"direction", "blocking",
+            "blocking: lower every term of a max that stands above 0 together (core/requirements/robustness.hpp, "
+            "CriticalPath); subgradient: ρ's own (the critical sample's, zlscheck's)",
+            "blocking|subgradient"},
+           {"step_rule", "sign",
+            "sign: every value with a slope moves by η of its range; scaled: by η |g_i| r_i / max_j |g_j| r_j of its "
+            "range r_i",
+            "sign|scaled"}},
           [](const Json& o) {
             return std::make_unique<GradientFalsifier>(
                 GradientOptions{o.at("budget").get<std::int64_t>(), o.at("horizon").get<double>(),
-                                input_shape_of(o.at("input_shape").get<std::string>()), o.at("step").get<double>(),
-                                o.at("patience").get<int>()});
+                                input_shape_of(o.at("input_shape").get<std::string>()), o.at("eta").get<double>(),
+                                o.at("patience").get<int>(), o.at("schedule").get<std::string>() == "halving",
+                                o.at("direction").get<std::string>() == "blocking" ? stl::CriticalPath::every_blocking
+                                                                                  : stl::CriticalPath::attaining,
+                                o.at("step_rule").get<std::string>() == "scaled"});
           },
           check_gradient_system,
           /*searches_signals=*/true,
-          /*searches_parameters=*/false};
+          /*searches_parameters=*/false,
+          /*needs_tangents=*/true};
 }
 
 }  // namespace hyfal

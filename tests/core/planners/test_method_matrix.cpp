@@ -155,7 +155,10 @@ TEST(method_matrix, EveryMethodOnEverySuiteEndsWithoutErrorAndItsWitnessesValida
       EXPECT_EQ(r.status, TrialStatus::error) << c.what;
       const bool refused_for_inputs = c.job.system->info().input_names.empty() && !c.job.method->searches_parameters;
       if (is_optimizer(*c.job.method) && !refused_for_inputs) {
-        EXPECT_NE(r.error.find("requirement"), std::string::npos) << c.what << ": " << r.error;
+        // `gradient` on a model without tangents (AFC's ROS34PW2, aircraft's dopri5) is refused for
+        // them first (check_method_for_system), before its requirement is looked at.
+        const bool no_tangents = c.job.method->needs_tangents && !c.job.system->make_tangent_propagator(0);
+        EXPECT_NE(r.error.find(no_tangents ? "tangents" : "requirement"), std::string::npos) << c.what << ": " << r.error;
         continue;
       }
       const bool needs_inputs = c.job.system->info().input_names.empty();

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -224,6 +225,57 @@ TEST(Robustness, BothSidesOfAJumpAreInTheTrace) {
   const auto s = m.node_signal(m.formula().root());
   EXPECT_DOUBLE_EQ(s[1], -5.0);  // [1, 1] holds both sides of the jump
   EXPECT_DOUBLE_EQ(s[2], 5.0);
+}
+
+// critical_samples (robustness.hpp): the attaining path is a subgradient; every_blocking follows every
+// term of a max that must fall and stands above 0 (and every term of a min that must rise and stands
+// below 0). AT6a's shape: (always[0,2] a < 3) -> (always[0,1] b < 1).
+std::map<std::pair<std::size_t, std::size_t>, double> critical(const std::string& text, const std::vector<double>& t,
+                                                               const std::vector<double>& a,
+                                                               const std::vector<double>& b, CriticalPath path) {
+  OfflineMonitor m(parse_requirement(text, std::vector<std::string>{"a", "b"}));
+  std::vector<double> values = a;
+  values.insert(values.end(), b.begin(), b.end());
+  m.robustness_at_every_sample({t, values});
+  std::vector<SampleWeight> out;
+  m.critical_samples(out, path);
+  std::map<std::pair<std::size_t, std::size_t>, double> sum;  // (signal, sample) -> weight
+  for (const SampleWeight& w : out) sum[{w.signal, w.sample}] += w.weight;
+  return sum;
+}
+
+TEST(Robustness, CriticalSamplesFollowTheAttainingOrEveryBlockingTerm) {
+  using Key = std::pair<std::size_t, std::size_t>;
+  const std::string at6a = "(always[0,2] a < 3) -> (always[0,1] b < 1)";
+  const std::vector<double> t{0, 1, 2};
+  // a > 3 at samples 0 and 2 (the antecedent fails, its negation stands at 2 > 0); b's term at 0.5.
+  const std::vector<double> a{4, 2, 5}, b{0, 0.5, 0};
+  EXPECT_DOUBLE_EQ(rob(at6a, t, {a, b}), 2.0);
+  const auto sub = critical(at6a, t, a, b, CriticalPath::attaining);
+  EXPECT_EQ(sub, (std::map<Key, double>{{{0, 2}, 1.0}}));  // ρ = a(2) − 3 there
+  const auto spread = critical(at6a, t, a, b, CriticalPath::every_blocking);
+  // Both terms of the -> (each above 0); in the antecedent's always, which must rise, every sample
+  // below 0 (a at 0 and 2, by their mean); in the consequent's always, which must fall, the
+  // attaining sample; each atom in units of its threshold (a's 3, b's 1).
+  const double sixth = 1.0 / 6.0;
+  EXPECT_EQ(spread, (std::map<Key, double>{{{0, 0}, sixth}, {{0, 2}, sixth}, {{1, 1}, -1.0}}));
+  // Where the consequent already stands below 0 only the antecedent blocks.
+  const std::vector<double> fast{0, 2, 0};
+  EXPECT_EQ(critical(at6a, t, a, fast, CriticalPath::every_blocking),
+            (std::map<Key, double>{{{0, 0}, sixth}, {{0, 2}, sixth}}));
+  // A falsified trace (ρ < 0): nothing blocks, the same samples as the subgradient's, in units.
+  const std::vector<double> calm{2, 2, 2};
+  const auto attaining = critical(at6a, t, calm, fast, CriticalPath::attaining);
+  auto blocking = critical(at6a, t, calm, fast, CriticalPath::every_blocking);
+  ASSERT_EQ(blocking.size(), attaining.size());
+  for (auto& [key, weight] : blocking) EXPECT_DOUBLE_EQ(weight * (key.first == 0 ? 3.0 : 1.0), attaining.at(key));
+  // eventually: every window sample above 0; always at the top: its attaining sample only.
+  const double third = 1.0 / 3.0;
+  EXPECT_EQ(critical("eventually[0,2] a > 1", t, a, b, CriticalPath::every_blocking),
+            (std::map<Key, double>{{{0, 0}, third}, {{0, 1}, third}, {{0, 2}, third}}));
+  EXPECT_EQ(critical("eventually[0,2] a > 1", t, a, b, CriticalPath::attaining), (std::map<Key, double>{{{0, 2}, 1.0}}));
+  EXPECT_EQ(critical("always[0,2] a < 6", t, a, b, CriticalPath::every_blocking),
+            (std::map<Key, double>{{{0, 2}, -1.0 / 6.0}}));
 }
 
 TEST(Robustness, RefusesTracesOfTheWrongShape) {
