@@ -261,7 +261,8 @@ class Propagator {
 };
 
 // A propagator of a state together with its tangents: the derivatives of the state with respect
-// to P search variables (an input signal's control points), for gradient-based falsification
+// to P directions (stl::InputSimulator's are, within each input piece, the state at the piece's
+// start and the piece's input: P = n + m), for gradient-based falsification
 // (core/simulate/tangent_model.hpp says how they are computed; stl::SensitivitySimulator drives
 // one). It propagates the augmented state z = [x (n) | S (n × P, variable by variable: S[v n + i]
 // = ∂x_i/∂c_v at a fixed time) | T (P: ∂t/∂c_v of the time the state stands at, non-zero only

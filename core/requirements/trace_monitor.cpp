@@ -55,37 +55,42 @@ double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<co
   critical_.clear();
   keep_.clear();
   double rho = std::numeric_limits<double>::quiet_NaN();
-  const SimulatedTrace& plain = simulator.run(pieces, p);
+  // One simulation with its tangents, which keeps every sample's (the trace is run()'s, bit for
+  // bit), unless the last trace had so many samples that recording them costs more than a plain
+  // run that finds the critical samples first. Measured with bench_gradient (issue 55): NN's
+  // 24,000 samples of 155 numbers are 30 MB a simulation (121× a plain run kept, 23× in two
+  // runs); CC5's 5,000 of 167 cost 3× a plain run in copies alone; AT1's 2,000 of 34 are cheap.
+  constexpr std::size_t kRecordAtMost = std::size_t{1} << 18;  // numbers (2 MB)
+  const bool two_runs = last_samples_ * simulator.tangent_sample_size() > kRecordAtMost;
+  const SimulatedTrace& first = two_runs ? simulator.run(pieces, p) : simulator.run_with_tangents(pieces, weights, points, p);
   // A run the deadline cut short, or one that did not fit the system, stays as it is: no gradient.
-  if (simulator.interrupted() || !plain.problem.empty())
-    return plain.time.empty() ? rho : monitor_.robustness(view(plain));
-  const std::size_t samples = plain.time.size();
-  if (!plain.time.empty()) {
-    rho = monitor_.robustness_at_every_sample(view(plain));
-    monitor_.critical_samples(critical_, path);
-    // One term per signal and sample (a spread path reaches a sample many times).
-    std::sort(critical_.begin(), critical_.end(), [](const SampleWeight& a, const SampleWeight& b) {
-      return a.sample != b.sample ? a.sample < b.sample : a.signal < b.signal;
-    });
-    std::size_t merged = 0;
-    for (const SampleWeight& c : critical_) {
-      if (merged > 0 && critical_[merged - 1].sample == c.sample && critical_[merged - 1].signal == c.signal)
-        critical_[merged - 1].weight += c.weight;
-      else
-        critical_[merged++] = c;
-    }
-    critical_.resize(merged);
+  if (simulator.interrupted() || !first.problem.empty())
+    return first.time.empty() ? rho : monitor_.robustness(view(first));
+  const std::size_t samples = first.time.size();
+  last_samples_ = samples;
+  if (samples == 0) return rho;
+  rho = monitor_.robustness_at_every_sample(view(first));
+  monitor_.critical_samples(critical_, path);
+  // One term per signal and sample (a spread path reaches a sample many times): each term costs
+  // the signal's slopes at its sample.
+  std::sort(critical_.begin(), critical_.end(), [](const SampleWeight& a, const SampleWeight& b) {
+    return a.sample != b.sample ? a.sample < b.sample : a.signal < b.signal;
+  });
+  if (two_runs) {
     for (const SampleWeight& c : critical_) keep_.push_back(c.sample);
-    std::sort(keep_.begin(), keep_.end());
-    keep_.erase(std::unique(keep_.begin(), keep_.end()), keep_.end());
+    keep_.erase(std::unique(keep_.begin(), keep_.end()), keep_.end());  // critical_ is sorted by sample
+    const SimulatedTrace& trace = simulator.run_with_tangents(pieces, weights, points, p, keep_);  // the same trace
+    if (simulator.interrupted() || trace.time.size() != samples) return rho;
   }
-  const SimulatedTrace& trace = simulator.run_with_tangents(pieces, weights, points, p, keep_);  // the same trace
-  if (simulator.interrupted() || trace.time.size() != samples) return rho;
-  tangent_.resize(vars);
+  terms_.clear();
   for (const SampleWeight& c : critical_) {
-    simulator.signal_tangent(static_cast<std::size_t>(requirement_.sources[c.signal]), c.sample, tangent_);
-    for (std::size_t v = 0; v < vars; ++v) gradient[v] += c.weight * tangent_[v];
+    const auto signal = static_cast<std::size_t>(requirement_.sources[c.signal]);
+    if (!terms_.empty() && terms_.back().sample == c.sample && terms_.back().signal == signal)
+      terms_.back().weight += c.weight;
+    else
+      terms_.push_back({signal, c.sample, c.weight});
   }
+  simulator.add_signal_tangents(terms_, gradient);
   return rho;
 }
 

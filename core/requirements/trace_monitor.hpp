@@ -47,9 +47,10 @@ class TraceMonitor {
   // ρ(φ, 0) of the simulation of `pieces` (as it ends) and its gradient with respect to the signal's
   // control points (InputSimulator::run_with_tangents's arguments; points × m values into
   // `gradient`): a subgradient, the monitor's critical samples (OfflineMonitor::critical_samples)
-  // times their tangents (InputSimulator::signal_tangent). Two runs of `simulator`: the plain one
-  // finds the critical samples, the one with tangents keeps only theirs (the same trace, bit for
-  // bit, which stays in the simulator). NaN and a zero gradient for a trace without samples.
+  // times their tangents (InputSimulator::add_signal_tangents). One run of `simulator` with its
+  // tangents (the same trace as a plain run, bit for bit, which stays in the simulator), or for a
+  // long trace a plain run first and then one that keeps only the critical samples' tangents. NaN
+  // and a zero gradient for a trace without samples.
   // path = every_blocking: a descent direction for falsification instead (CriticalPath).
   double robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
                              std::span<const ControlWeights> weights, std::size_t points, std::span<const double> p,
@@ -64,7 +65,8 @@ class TraceMonitor {
   std::vector<double> values_;
   std::vector<SampleWeight> critical_;
   std::vector<std::size_t> keep_;
-  std::vector<double> tangent_;
+  std::vector<InputSimulator::SignalTerm> terms_;
+  std::size_t last_samples_ = 0;  // the last robustness_gradient's trace
 };
 
 // The robustness of a simulated trace for a requirement of the same system (its sources index

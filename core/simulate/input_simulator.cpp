@@ -101,21 +101,28 @@ struct InputSimulator::Impl {
   bool interrupted = false;
   std::vector<std::vector<double>> outputs;
 
-  // Tangents (run_with_tangents): the propagator for `variables` search variables, the augmented
-  // input of the current piece, and every sample's z, mode and piece; the pieces' inputs, weights
-  // and end times, and p, for signal_tangent.
+  // Tangents (run_with_tangents): the propagator of the n + m directions of a piece (the state at
+  // its start, its input), the augmented input of the current piece, and every kept sample's z,
+  // mode and piece; each piece's S at its end (n × (n + m), the piece's transition and input
+  // matrices); the pieces' inputs, weights and end times, and p, for add_signal_tangents.
   std::unique_ptr<TangentPropagator> tangent;
+  std::size_t directions = 0;
   std::size_t variables = 0;
   std::vector<double> augmented_input;
   std::vector<double> sample_z;
   std::vector<std::size_t> sample_slot;  // per sample: its z's place in sample_z, SIZE_MAX if not kept
   std::vector<Mode> sample_mode;
   std::vector<std::uint32_t> sample_piece;
+  std::vector<double> piece_end_s;       // piece k's S at its end at [k n D, (k + 1) n D)
   std::vector<std::vector<double>> piece_u;
   std::vector<ControlWeights> piece_weights;
   std::vector<double> piece_end;
   std::vector<double> parameters;
-  std::vector<double> scratch_x, scratch_u, scratch_y, scratch_y2, scratch_f, moving;
+  std::vector<double> scratch_x, scratch_u, scratch_y, scratch_y2, scratch_f, moving, row, piece_rows, adjoint;
+
+  // ∂(signal at sample)/∂[the state at the sample's piece's start | that piece's input] into row
+  // (n + m values).
+  void sample_row(std::size_t signal, std::size_t sample, std::vector<double>& row);
 
   const SimulatedTrace& run_model(std::span<const InputPiece> pieces, std::span<const double> p);
   // The loop run() and run_with_tangents() share: each piece held through hold_input, from x (the
@@ -267,6 +274,12 @@ bool InputSimulator::has_tangents() const {
 
 std::size_t InputSimulator::variables() const { return impl_->variables; }
 
+std::size_t InputSimulator::tangent_sample_size() const {
+  const SystemInfo& info = impl_->system.info();
+  const std::size_t n = info.initial_state.size(), dirs = n + info.input_names.size();
+  return n * (1 + dirs) + dirs;
+}
+
 const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPiece> pieces,
                                                         std::span<const ControlWeights> weights, std::size_t points,
                                                         std::span<const double> p, std::span<const std::size_t> keep) {
@@ -281,18 +294,21 @@ const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPie
   if (d.model) throw std::logic_error("a model known only by its simulations has no tangents");
   const SystemInfo& info = d.system.info();
   const std::size_t m = info.input_names.size(), n = info.initial_state.size();
-  const std::size_t vars = points * m;
-  if (!d.tangent || d.variables != vars) {
-    d.tangent = d.system.make_tangent_propagator(vars);
-    d.variables = vars;
+  const std::size_t dirs = n + m;
+  if (!d.tangent || d.directions != dirs) {
+    d.tangent = d.system.make_tangent_propagator(dirs);
+    d.directions = dirs;
     if (d.tangent) d.tangent->propagator().set_interrupt(d.interrupt);
   }
   if (!d.tangent) throw std::logic_error("this system has no tangents (gradients need a model integrated by RK4)");
+  d.variables = points * m;
+  d.tangent->set_active_variables(dirs);
   d.clear_trace();
   d.sample_z.clear();
   d.sample_slot.clear();
   d.sample_mode.clear();
   d.sample_piece.clear();
+  d.piece_end_s.clear();
   d.piece_u.assign(pieces.size(), {});
   d.piece_weights.assign(weights.begin(), weights.end());
   d.piece_end.resize(pieces.size());
@@ -305,109 +321,145 @@ const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPie
   d.parameters.assign(p.begin(), p.end());
   AllSignals signals(d.system, d.trace, p);
   TangentSamples sink(signals, d.trace.time, n, keep, d.sample_z, d.sample_slot, d.sample_mode, d.sample_piece);
-  d.x.assign(n * (1 + vars) + vars, 0.0);
+  d.x.assign(n * (1 + dirs) + dirs, 0.0);
   std::copy(info.initial_state.begin(), info.initial_state.end(), d.x.begin());
-  d.augmented_input.assign(m * (1 + vars), 0.0);
-  std::size_t active = 0;
+  // U: direction n + j moves input j by one; the state directions move no input.
+  d.augmented_input.assign(m * (1 + dirs), 0.0);
+  for (std::size_t j = 0; j < m; ++j) d.augmented_input[m + (n + j) * m + j] = 1.0;
   std::size_t last = SIZE_MAX;
   d.drive(d.tangent->propagator(), sink, signals, pieces, p, [&](std::size_t k) {
-    if (k != last) {  // a piece's start: its input and input tangent, and T = 0 (its start time is fixed)
+    if (k != last) {
+      // The previous piece's end: keep its S. Then restart the directions: S = [I | 0], and T = 0
+      // (a piece's start time is fixed).
+      const auto s = d.x.begin() + static_cast<std::ptrdiff_t>(n);
+      if (last != SIZE_MAX) d.piece_end_s.insert(d.piece_end_s.end(), s, s + static_cast<std::ptrdiff_t>(n * dirs));
       last = k;
       sink.set_piece(static_cast<std::uint32_t>(k));
-      std::fill(d.augmented_input.begin(), d.augmented_input.end(), 0.0);
       std::copy(pieces[k].u.begin(), pieces[k].u.end(), d.augmented_input.begin());
-      const ControlWeights& w = weights[k];
-      for (std::size_t j = 0; j < m; ++j) {
-        d.augmented_input[m + (w.point * m + j) * m + j] = w.here;
-        if (w.next != 0.0) d.augmented_input[m + ((w.point + 1) * m + j) * m + j] = w.next;
-      }
-      active = std::max(active, (w.point + 1 + (w.next != 0.0 ? 1 : 0)) * m);
-      d.tangent->set_active_variables(active);
-      std::fill(d.x.end() - static_cast<std::ptrdiff_t>(vars), d.x.end(), 0.0);
+      std::fill(s, d.x.end(), 0.0);
+      for (std::size_t i = 0; i < n; ++i) s[static_cast<std::ptrdiff_t>(i * n + i)] = 1.0;
     }
     return std::span<const double>(d.augmented_input);
   });
   return d.trace;
 }
 
-void InputSimulator::signal_tangent(std::size_t signal, std::size_t sample, std::span<double> out) {
-  Impl& d = *impl_;
-  const SystemInfo& info = d.system.info();
-  const std::size_t m = info.input_names.size(), n = info.initial_state.size(), vars = d.variables;
+void InputSimulator::Impl::sample_row(std::size_t signal, std::size_t sample, std::vector<double>& out) {
+  const SystemInfo& info = system.info();
+  const std::size_t m = info.input_names.size(), n = info.initial_state.size(), dirs = directions;
   const std::size_t outputs = info.outputs.size();
-  const std::size_t samples = d.sample_mode.size();
-  if (sample >= samples || signal > outputs + m || out.size() != vars)
-    throw std::invalid_argument(fmt::format("signal_tangent: signal {} at sample {} of {} ({} values for {} variables)",
-                                            signal, sample, samples, out.size(), vars));
-  const std::size_t dz = n * (1 + vars) + vars;
-  if (d.sample_slot[sample] == SIZE_MAX)
-    throw std::logic_error(fmt::format("signal_tangent: sample {} was not kept by run_with_tangents", sample));
-  const double* z = d.sample_z.data() + d.sample_slot[sample] * dz;
-  const Mode q = d.sample_mode[sample];
-  const std::size_t piece = d.sample_piece[sample];
-  const std::vector<double>& u = d.piece_u.empty() ? d.no_input : d.piece_u[piece];
-  const ControlWeights w = d.piece_weights.empty() ? ControlWeights{} : d.piece_weights[piece];
-  // ∂u_j/∂c_v of the sample's piece.
-  auto input_tangent = [&](std::size_t v, std::size_t j) {
-    if (d.piece_weights.empty() || v % m != j) return 0.0;
-    const std::size_t point = v / m;
-    return point == w.point ? w.here : point == w.point + 1 ? w.next : 0.0;
-  };
-  if (signal >= outputs && signal < outputs + m) {
-    for (std::size_t v = 0; v < vars; ++v) out[v] = input_tangent(v, signal - outputs);
+  const std::size_t samples = sample_mode.size();
+  const std::size_t dz = n * (1 + dirs) + dirs;
+  out.assign(dirs, 0.0);
+  const double* z = sample_z.data() + sample_slot[sample] * dz;
+  const Mode q = sample_mode[sample];
+  const std::size_t piece = sample_piece[sample];
+  const std::vector<double>& u = piece_u.empty() ? no_input : piece_u[piece];
+  if (signal >= outputs && signal < outputs + m) {  // an input: its own direction
+    if (!piece_u.empty()) out[n + signal - outputs] = 1.0;
     return;
   }
   // The time tangent of the sample: T, unless it stands at its piece's end (a fixed time); the
   // state before a reset takes the one after it (the same instant, whose T the jump set).
-  const double time = d.trace.time[sample];
-  const bool piece_end = !d.piece_end.empty() && std::abs(time - d.piece_end[piece]) <= 1e-12 * std::max(1.0, time);
+  const double time = trace.time[sample];
+  const bool at_piece_end = !piece_end.empty() && std::abs(time - piece_end[piece]) <= 1e-12 * std::max(1.0, time);
   std::size_t from = sample;
-  while (from + 1 < samples && d.trace.time[from + 1] == time) ++from;
-  const double* tt = d.sample_z.data() + d.sample_slot[from] * dz + n * (1 + vars);
+  while (from + 1 < samples && trace.time[from + 1] == time) ++from;
+  const double* tt = sample_z.data() + sample_slot[from] * dz + n * (1 + dirs);
   // dx_v = S_v + f T_v.
-  d.moving.assign(z + n, z + n + n * vars);
-  if (!piece_end) {
-    d.scratch_f.resize(n);
-    d.system.derivative(q, std::span<const double>(z, n), u, d.parameters, d.scratch_f);
-    for (std::size_t v = 0; v < vars; ++v)
+  moving.assign(z + n, z + n + n * dirs);
+  if (!at_piece_end) {
+    scratch_f.resize(n);
+    system.derivative(q, std::span<const double>(z, n), u, parameters, scratch_f);
+    for (std::size_t v = 0; v < dirs; ++v)
       if (tt[v] != 0.0)
-        for (std::size_t i = 0; i < n; ++i) d.moving[v * n + i] += d.scratch_f[i] * tt[v];
+        for (std::size_t i = 0; i < n; ++i) moving[v * n + i] += scratch_f[i] * tt[v];
   }
   // The signal's slopes in x (and u) by central differences, then the chain rule.
-  d.scratch_x.assign(z, z + n);
-  d.scratch_u.assign(u.begin(), u.end());
-  d.scratch_y.resize(outputs);
-  d.scratch_y2.resize(outputs);
+  scratch_x.assign(z, z + n);
+  scratch_u.assign(u.begin(), u.end());
+  scratch_y.resize(outputs);
+  scratch_y2.resize(outputs);
   auto value = [&](std::vector<double>& y) {
-    if (signal == outputs + m) return d.system.spec(q, d.scratch_x, d.parameters);
-    d.system.outputs(q, d.scratch_x, d.scratch_u, d.parameters, y);
+    if (signal == outputs + m) return system.spec(q, scratch_x, parameters);
+    system.outputs(q, scratch_x, scratch_u, parameters, y);
     return y[signal];
   };
-  std::fill(out.begin(), out.end(), 0.0);
-  const double y0 = value(d.scratch_y);
+  const double y0 = value(scratch_y);
   for (std::size_t i = 0; i < n; ++i) {
     const double h = difference_step(z[i]);
-    d.scratch_x[i] = z[i] + h;
-    const double a = value(d.scratch_y);
-    d.scratch_x[i] = z[i] - h;
-    const double b = value(d.scratch_y2);
-    d.scratch_x[i] = z[i];
+    scratch_x[i] = z[i] + h;
+    const double a = value(scratch_y);
+    scratch_x[i] = z[i] - h;
+    const double b = value(scratch_y2);
+    scratch_x[i] = z[i];
     const double slope = difference_quotient(b, y0, a, h);
     if (slope == 0.0) continue;
-    for (std::size_t v = 0; v < vars; ++v) out[v] += slope * d.moving[v * n + i];
+    for (std::size_t v = 0; v < dirs; ++v) out[v] += slope * moving[v * n + i];
   }
-  if (signal < outputs)
+  if (signal < outputs && !piece_u.empty())
     for (std::size_t j = 0; j < m; ++j) {
       const double h = difference_step(u[j]);
-      d.scratch_u[j] = u[j] + h;
-      const double a = value(d.scratch_y);
-      d.scratch_u[j] = u[j] - h;
-      const double b = value(d.scratch_y2);
-      d.scratch_u[j] = u[j];
-      const double slope = difference_quotient(b, y0, a, h);
-      if (slope == 0.0) continue;
-      for (std::size_t v = 0; v < vars; ++v) out[v] += slope * input_tangent(v, j);
+      scratch_u[j] = u[j] + h;
+      const double a = value(scratch_y);
+      scratch_u[j] = u[j] - h;
+      const double b = value(scratch_y2);
+      scratch_u[j] = u[j];
+      out[n + j] += difference_quotient(b, y0, a, h);
     }
+}
+
+void InputSimulator::add_signal_tangents(std::span<const SignalTerm> terms, std::span<double> out) {
+  Impl& d = *impl_;
+  const SystemInfo& info = d.system.info();
+  const std::size_t m = info.input_names.size(), n = info.initial_state.size(), dirs = d.directions;
+  const std::size_t samples = d.sample_mode.size();
+  if (out.size() != d.variables)
+    throw std::invalid_argument(
+        fmt::format("signal tangents: room for {} values, {} variables", out.size(), d.variables));
+  std::size_t last_piece = 0;
+  for (const SignalTerm& t : terms) {
+    if (t.sample >= samples || t.signal > info.outputs.size() + m)
+      throw std::invalid_argument(
+          fmt::format("signal tangents: signal {} at sample {} of {}", t.signal, t.sample, samples));
+    if (d.sample_slot[t.sample] == SIZE_MAX)
+      throw std::logic_error(fmt::format("signal tangents: sample {} was not kept by run_with_tangents", t.sample));
+    last_piece = std::max<std::size_t>(last_piece, d.sample_piece[t.sample]);
+  }
+  if (terms.empty() || d.piece_weights.empty()) return;  // no input pieces: nothing depends on a control point
+  // Each piece's terms, with respect to [its start state | its input].
+  d.piece_rows.assign((last_piece + 1) * dirs, 0.0);
+  for (const SignalTerm& t : terms) {
+    d.sample_row(t.signal, t.sample, d.row);
+    double* acc = d.piece_rows.data() + d.sample_piece[t.sample] * dirs;
+    for (std::size_t v = 0; v < dirs; ++v) acc[v] += t.weight * d.row[v];
+  }
+  // Backwards over the pieces: λ, the derivative with respect to the state at the next piece's
+  // start (this piece's end), reaches this piece's start state and input through S at its end.
+  d.adjoint.assign(n, 0.0);
+  for (std::size_t k = last_piece + 1; k-- > 0;) {
+    double* acc = d.piece_rows.data() + k * dirs;
+    if (k < last_piece) {
+      const double* s = d.piece_end_s.data() + k * n * dirs;
+      for (std::size_t v = 0; v < dirs; ++v) {
+        double a = 0.0;
+        for (std::size_t i = 0; i < n; ++i) a += d.adjoint[i] * s[v * n + i];
+        acc[v] += a;
+      }
+    }
+    std::copy(acc, acc + n, d.adjoint.begin());
+    const ControlWeights& w = d.piece_weights[k];
+    for (std::size_t j = 0; j < m; ++j) {
+      out[w.point * m + j] += w.here * acc[n + j];
+      if (w.next != 0.0) out[(w.point + 1) * m + j] += w.next * acc[n + j];
+    }
+  }
+}
+
+void InputSimulator::signal_tangent(std::size_t signal, std::size_t sample, std::span<double> out) {
+  std::fill(out.begin(), out.end(), 0.0);
+  const SignalTerm term{signal, sample, 1.0};
+  add_signal_tangents(std::span<const SignalTerm>(&term, 1), out);
 }
 
 SimulatedTrace simulate_inputs(const System& system, std::span<const InputPiece> pieces, std::span<const double> p) {

@@ -30,14 +30,21 @@ class InputSimulator {
   ~InputSimulator();
   // The trace of `pieces`, valid until the next run.
   const SimulatedTrace& run(std::span<const InputPiece> pieces, std::span<const double> p);
-  // The same simulation, with the tangents of every state with respect to the signal's control
-  // points (core/simulate/tangent_model.hpp): weights[k] says how piece k's input depends on them
-  // (ControlWeights), `points` control points of m inputs, so points × m search variables (point k's
-  // input j is variable k m + j). The trace is run()'s, bit for bit. Throws std::logic_error when
-  // the system has no tangents (has_tangents()), std::invalid_argument as run() does and for one
-  // weight per piece missing or a point past `points`. keep: the samples signal_tangent will be
-  // asked for, in increasing order (empty: every one); only theirs are recorded, the rest of each
-  // sample's n (1 + P) + P numbers is not kept (SC: 59 MB a simulation otherwise).
+  // The same simulation, with what the derivatives of its samples with respect to the signal's
+  // control points need: weights[k] says how piece k's input depends on them (ControlWeights),
+  // `points` control points of m inputs, so points × m search variables (point k's input j is
+  // variable k m + j). The trace is run()'s, bit for bit. Throws std::logic_error when the system
+  // has no tangents (has_tangents()), std::invalid_argument as run() does and for one weight per
+  // piece missing or a point past `points`. keep: the samples add_signal_tangents will be asked
+  // for, in increasing order (empty: every one); only theirs are recorded.
+  //
+  // How (core/simulate/tangent_model.hpp propagates the tangents): within each input piece, the
+  // tangents of the n + m directions [the state at the piece's start | the piece's input], restarted
+  // at every piece (S = [I | 0], T = 0); at each piece's end, S is kept (that piece's transition
+  // and input matrices). A sample's derivative with respect to the control points is then the
+  // chain of these matrices back to the first piece, which add_signal_tangents runs once for all
+  // its terms, backwards (an adjoint over the pieces). So the cost is that of n + m tangents,
+  // whatever the number of control points (SC: 5 directions for 175 points).
   const SimulatedTrace& run_with_tangents(std::span<const InputPiece> pieces, std::span<const ControlWeights> weights,
                                           std::size_t points, std::span<const double> p,
                                           std::span<const std::size_t> keep = {});
@@ -45,12 +52,23 @@ class InputSimulator {
   bool has_tangents() const;
   // The search variables of the last run_with_tangents.
   std::size_t variables() const;
-  // After run_with_tangents: the derivative of signal `signal` (system_signals order) at sample
-  // `sample` with respect to every search variable, into out (variables() values). It is the
-  // sample's total derivative: a sample whose time moves with the inputs (after a state event,
-  // until its input piece ends) moves along the flow (tangent_model.hpp), as a finite difference of
-  // the simulation sees it. Output and safety slopes are central differences of M::outputs and
-  // M::spec at the sample.
+  // The numbers run_with_tangents records at a kept sample (n (1 + n + m) + n + m).
+  std::size_t tangent_sample_size() const;
+  // One term of a derivative: `weight` × signal `signal` (system_signals order) at sample `sample`.
+  struct SignalTerm {
+    std::size_t signal = 0;
+    std::size_t sample = 0;
+    double weight = 0.0;
+  };
+  // After run_with_tangents: adds Σ weight × ∂(signal at sample)/∂c_v to out[v] for every search
+  // variable v (out: variables() values). Each is a sample's total derivative: a sample whose time
+  // moves with the inputs (after a state event, until its input piece ends) moves along the flow
+  // (tangent_model.hpp), as a finite difference of the simulation sees it. Output and safety slopes
+  // are central differences of M::outputs and M::spec at the sample. Throws std::invalid_argument
+  // for a signal or sample out of range or a wrong size of out, std::logic_error for a sample
+  // run_with_tangents did not keep.
+  void add_signal_tangents(std::span<const SignalTerm> terms, std::span<double> out);
+  // The derivative of one signal at one sample (out: variables() values, overwritten).
   void signal_tangent(std::size_t signal, std::size_t sample, std::span<double> out);
   // The last run's trace (empty before the first).
   const SimulatedTrace& trace() const;

@@ -9,10 +9,11 @@
 //    with f_x and f_u at each stage's state, is exactly the derivative of the RK4 step's map (the
 //    step is a composition of the stages), so x's tangents are those of the discrete simulation
 //    up to the Jacobians' own error.
-//  - Jacobians: central differences of the model's flow (h_i = ε^(1/3) max(1, |x_i|): truncation
-//    and rounding errors both near 1e-11 relative for a smooth flow), columns the model declares
-//    unread (M::flow_unread) skipped, rows from M::flowing_dim on zero. A model may later provide
-//    its own exact Jacobian; none does yet.
+//  - Jacobians: the model's own (M::flow_jacobian, ModelWithJacobian below: exact, and the
+//    slope of the branch the point is on at a kink, as automatic differentiation gives it), else
+//    central differences of its flow (difference_quotient.hpp), columns the model declares unread
+//    (M::flow_unread) skipped, rows from M::flowing_dim on zero. Differences cost 2 (n + m) flows
+//    a stage: AT's 8 and CC's 14 were most of a gradient's cost (perf, issue 55).
 //  - A located event of guard g at time τ (the propagator takes it at the bracket's left end, where
 //    g <= 0): τ moves with the inputs, ∂τ/∂c_v = −(g_x S_v + g_u U_v) / (g_x f⁻), which is stored in
 //    T_v. Then with R the reset and f⁺ the flow in the next mode at the reset state,
@@ -42,6 +43,13 @@
 #include "core/simulate/model_propagator.hpp"
 
 namespace hyfal {
+
+// A model that gives its flow's Jacobians at (q, x, u): jx[i r + k] = ∂f_k/∂x_i and
+// ju[j r + k] = ∂f_k/∂u_j for the r = M::flowing_dim (else n) rows of f, every entry written.
+template <class M>
+concept ModelWithJacobian = requires(const M m, Mode q, const double* a, double* b) {
+  m.flow_jacobian(q, a, a, a, b, b);
+};
 
 template <HybridModel M>
 class TangentModel {
@@ -150,15 +158,24 @@ class TangentModel {
     }
     if (located) {
       guard_gradient(q, k, xs_.data(), v, p);
-      double denom = 0.0;
-      for (std::size_t i = 0; i < n_; ++i) denom += gx_[i] * f0_[i];
+      // A guard the flow does not cross (g_x f⁻ = 0 up to rounding and the differences: NN's input-change guard,
+      // u r − A with r' = 1 and A' = u, fires when rounding tips it over its 1e-12 threshold) has
+      // no event time that moves with the inputs: T stays. Dividing by the rounding gave T of
+      // 1e16 and tangents of 1e71 (tests/core/requirements/test_robustness_gradient.cpp, NN).
+      double denom = 0.0, gx_norm = 0.0, f_norm = 0.0;
+      for (std::size_t i = 0; i < n_; ++i) {
+        denom += gx_[i] * f0_[i];
+        gx_norm = std::max(gx_norm, std::abs(gx_[i]));
+        f_norm = std::max(f_norm, std::abs(f0_[i]));
+      }
+      if (std::abs(denom) <= 1e-6 * gx_norm * f_norm) denom = 0.0;  // 1e-6: past the differences' error in g_x
       const double* uu = v + m_;
       for (std::size_t w = 0; w < active_; ++w) {
         double num = 0.0;
         for (std::size_t i = 0; i < n_; ++i) num += gx_[i] * s[w * n_ + i];
         if constexpr (kInputGuards)
           for (std::size_t j = 0; j < m_; ++j) num += gu_[j] * uu[w * m_ + j];
-        tt[w] = denom != 0.0 ? -num / denom : 0.0;
+        if (denom != 0.0) tt[w] = -num / denom;
       }
     }
     const Mode next = model_.jump(q, k, z, p);  // x⁺ in place
@@ -180,15 +197,17 @@ class TangentModel {
       model_.flow(next, z, v, p, f1_.data());  // f⁺
       std::fill(f1_.begin() + static_cast<std::ptrdiff_t>(rows_), f1_.end(), 0.0);
     }
+    // R_x's non-zero entries: a reset changes few states (CC's none, NN's tick six of eleven).
+    nonzero_.clear();
+    for (std::size_t i = 0; i < n_; ++i)
+      for (std::size_t r = 0; r < n_; ++r)
+        if (const double a = jr[i * n_ + r]; a != 0.0) nonzero_.push_back({r, i, a});
     for (std::size_t w = 0; w < active_; ++w) {
       double* sw = s + w * n_;
       const double tw = v ? tt[w] : 0.0;
       for (std::size_t i = 0; i < n_; ++i) col_[i] = sw[i] + f0_[i] * tw;  // S + f⁻ T
-      for (std::size_t r = 0; r < n_; ++r) {
-        double acc = -f1_[r] * tw;
-        for (std::size_t i = 0; i < n_; ++i) acc += jr[i * n_ + r] * col_[i];
-        sw[r] = acc;
-      }
+      for (std::size_t r = 0; r < n_; ++r) sw[r] = -f1_[r] * tw;
+      for (const Entry& e : nonzero_) sw[e.row] += e.value * col_[e.col];
     }
     return next;
   }
@@ -216,6 +235,11 @@ class TangentModel {
   // jx_ (column i at jx_[i * rows_]) and ju_ at (q, x, u) by central differences.
   // f0: the flow at (x, u), for the one-sided quotients (difference_quotient).
   void flow_jacobian(Mode q, const double* x, const double* u, const double* p, const double* f0) const {
+    if constexpr (ModelWithJacobian<M>) {
+      (void)f0;
+      model_.flow_jacobian(q, x, u, p, jx_.data(), ju_.data());
+      return;
+    }
     std::copy(x, x + n_, xs_.begin());
     for (std::size_t i = 0; i < n_; ++i) {
       double* col = jx_.data() + i * rows_;

@@ -136,7 +136,12 @@ constexpr double kTr[21] = {2.232, 2.075, 1.975, 1.846, 1.720, 1.564, 1.409, 1.2
 struct ConverterPoint {
   double k, tr;  // capacity factor K(sr) and torque ratio TR(sr)
 };
-ConverterPoint converter(double sr) {
+// The segment of sr (see above) and sr's weight in it.
+struct ConverterSegment {
+  int i;
+  double w, slope;  // slope: dw/dsr
+};
+ConverterSegment converter_segment(double sr) {
   int i;
   if (sr < 0.8)
     i = static_cast<int>(std::floor(sr * 10.0));
@@ -145,8 +150,17 @@ ConverterPoint converter(double sr) {
   else
     i = 18 + static_cast<int>(std::floor((sr - 0.9) * 50.0));
   i = std::clamp(i, 0, 19);  // beyond either end: the end segment, extrapolated
-  const double w = (sr - kSr[i]) * (i < 8 ? 10.0 : i < 18 ? 100.0 : 50.0);
-  return {kK[i] + w * (kK[i + 1] - kK[i]), kTr[i] + w * (kTr[i + 1] - kTr[i])};
+  const double slope = i < 8 ? 10.0 : i < 18 ? 100.0 : 50.0;
+  return {i, (sr - kSr[i]) * slope, slope};
+}
+ConverterPoint converter(double sr) {
+  const ConverterSegment s = converter_segment(sr);
+  return {kK[s.i] + s.w * (kK[s.i + 1] - kK[s.i]), kTr[s.i] + s.w * (kTr[s.i + 1] - kTr[s.i])};
+}
+// dK/dsr and dTR/dsr on sr's segment.
+ConverterPoint converter_slope(double sr) {
+  const ConverterSegment s = converter_segment(sr);
+  return {s.slope * (kK[s.i + 1] - kK[s.i]), s.slope * (kTr[s.i + 1] - kTr[s.i])};
 }
 
 // Shift schedule: speed thresholds [mph] by throttle (rows) and current gear (columns).
@@ -177,19 +191,41 @@ constexpr double kBoundPull = 50.0;
 // stiffness 215 /s, inside RK4's stability at 0.01 s (h λ = 2.2 < 2.78).
 constexpr double kStictionBand = 0.01;  // mph
 
-// Engine torque Te(throttle, rpm): linear in throttle, linear (extrapolated) in rpm.
-double engine_torque(double throttle, double rpm) {
+// Engine torque Te(throttle, rpm): linear in throttle, linear (extrapolated) in rpm. The cell of
+// (throttle, rpm) in the torque map and the weights within it.
+struct TorqueCell {
+  int i, j;
+  double wt, wr;
+  double throttle_scale;  // dwt/dthrottle
+};
+TorqueCell torque_cell(double throttle, double rpm) {
   const double th = std::clamp(throttle, 0.0, 100.0);
   const int i = th < 20.0 ? 0 : std::min(8, 1 + static_cast<int>((th - 20.0) / 10.0));
   // Products with the breakpoints' reciprocal spacings, not quotients: the flow runs at every
   // RK4 stage, and a division costs several multiplications.
-  const double wt = (th - kThrottleBp[i]) * (i == 0 ? 1.0 / 20.0 : 1.0 / 10.0);
+  const double scale = i == 0 ? 1.0 / 20.0 : 1.0 / 10.0;
   const double rpm_steps = (rpm - kRpm0) * (1.0 / kRpmSpacing);
   const int j = std::clamp(static_cast<int>(std::floor(rpm_steps)), 0, kRpmPoints - 2);
-  const double wr = rpm_steps - j;
-  const double a = kTorqueMap[i][j] + wt * (kTorqueMap[i + 1][j] - kTorqueMap[i][j]);
-  const double b = kTorqueMap[i][j + 1] + wt * (kTorqueMap[i + 1][j + 1] - kTorqueMap[i][j + 1]);
-  return a + wr * (b - a);
+  return {i, j, (th - kThrottleBp[i]) * scale, rpm_steps - j, scale};
+}
+double engine_torque(double throttle, double rpm) {
+  const TorqueCell c = torque_cell(throttle, rpm);
+  const double a = kTorqueMap[c.i][c.j] + c.wt * (kTorqueMap[c.i + 1][c.j] - kTorqueMap[c.i][c.j]);
+  const double b = kTorqueMap[c.i][c.j + 1] + c.wt * (kTorqueMap[c.i + 1][c.j + 1] - kTorqueMap[c.i][c.j + 1]);
+  return a + c.wr * (b - a);
+}
+// ∂Te/∂throttle and ∂Te/∂rpm in the cell of (throttle, rpm) (0 in throttle beyond [0, 100]).
+struct TorqueSlope {
+  double throttle, rpm;
+};
+TorqueSlope engine_torque_slope(double throttle, double rpm) {
+  const TorqueCell c = torque_cell(throttle, rpm);
+  const double lo = kTorqueMap[c.i + 1][c.j] - kTorqueMap[c.i][c.j];          // along throttle, at j
+  const double hi = kTorqueMap[c.i + 1][c.j + 1] - kTorqueMap[c.i][c.j + 1];  // at j + 1
+  const double a = kTorqueMap[c.i][c.j] + c.wt * lo;
+  const double b = kTorqueMap[c.i][c.j + 1] + c.wt * hi;
+  const bool inside = throttle >= 0.0 && throttle <= 100.0;
+  return {inside ? c.throttle_scale * (lo + c.wr * (hi - lo)) : 0.0, (b - a) * (1.0 / kRpmSpacing)};
 }
 
 class Transmission {
@@ -230,6 +266,47 @@ class Transmission {
     dx[kNw] = (drive - resistance) * (1.0 / kIv);
     dx[kTime] = 1.0;
     dx[kClock] = controller(q) == kSteady ? 0.0 : 1.0;
+  }
+  // ∂flow/∂x and ∂flow/∂u (TangentModel, core/simulate/tangent_model.hpp): flow's branches, each
+  // differentiated as it is taken (at a clamp's bound, the side std::clamp returns its argument on).
+  void flow_jacobian(Mode q, const double* x, const double* u, const double*, double* jx, double* ju) const {
+    std::fill(jx, jx + 16, 0.0);
+    std::fill(ju, ju + 8, 0.0);
+    const int g = gear(q);
+    const double ne = engine_speed(x);
+    const double dne = x[kNe] < kNeMin || x[kNe] > kNeMax ? 0.0 : 1.0;  // ∂ne/∂Ne
+    const double ratio = kRatio[g - 1] * kRfd;
+    const double sr = ratio * x[kNw] / ne;
+    const double dsr_ne = -sr / ne * dne, dsr_nw = ratio / ne;  // ∂sr/∂Ne, ∂sr/∂Nw
+    const ConverterPoint c = converter(sr);
+    const ConverterPoint dc = converter_slope(sr);
+    const double r = ne / c.k;
+    const double ti = r * r;
+    // ∂ti = 2 r (∂ne / k − ne ∂k / k²), ∂k = dK/dsr ∂sr.
+    const double dti_ne = 2.0 * r * (dne / c.k - ne * dc.k * dsr_ne / (c.k * c.k));
+    const double dti_nw = 2.0 * r * (-ne * dc.k * dsr_nw / (c.k * c.k));
+    const TorqueSlope te = engine_torque_slope(u[0], ne);
+    const double ne_rate = (engine_torque(u[0], ne) - ti) * (1.0 / kIei);
+    if (x[kNe] <= kNeMin && ne_rate < 0.0) {
+      jx[kNe * 4 + kNe] = -kBoundPull;
+    } else if (x[kNe] >= kNeMax && ne_rate > 0.0) {
+      jx[kNe * 4 + kNe] = -kBoundPull;
+    } else {
+      jx[kNe * 4 + kNe] = (te.rpm * dne - dti_ne) * (1.0 / kIei);
+      jx[kNw * 4 + kNe] = -dti_nw * (1.0 / kIei);
+      ju[0 * 4 + kNe] = te.throttle * (1.0 / kIei);
+    }
+    // dNw = (drive − resistance) / Iv, drive = Rfd R TR ti, resistance = s (u2 + 40 + 0.02 v²).
+    const double v = speed(x);
+    const double band = v * (1.0 / kStictionBand);
+    const double s = std::clamp(band, -1.0, 1.0);
+    const double ds_nw = band < -1.0 || band > 1.0 ? 0.0 : kMph / kStictionBand;
+    const double load = u[1] + 40.0 + 0.02 * v * v;
+    const double ddrive_ne = ratio * (dc.tr * dsr_ne * ti + c.tr * dti_ne);
+    const double ddrive_nw = ratio * (dc.tr * dsr_nw * ti + c.tr * dti_nw);
+    jx[kNe * 4 + kNw] = ddrive_ne * (1.0 / kIv);
+    jx[kNw * 4 + kNw] = (ddrive_nw - ds_nw * load - s * 0.04 * v * kMph) * (1.0 / kIv);
+    ju[1 * 4 + kNw] = -s * (1.0 / kIv);
   }
   int guard_count(Mode) const { return 2; }
   // Guard 0: steady -> upshifting, or the shift completes; guard 1: steady -> downshifting, or

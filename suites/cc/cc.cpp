@@ -122,6 +122,23 @@ class ChasingCars {
     }
     dx[kTime] = 1.0;
   }
+  // ∂flow/∂x and ∂flow/∂u (TangentModel, core/simulate/tangent_model.hpp), from flow above.
+  void flow_jacobian(Mode q, const double* x, const double* u, const double*, double* jx, double* ju) const {
+    std::fill(jx, jx + kDim * kDim, 0.0);
+    std::fill(ju, ju + 2 * kDim, 0.0);
+    auto dx = [&](int row, int state) -> double& { return jx[state * kDim + row]; };
+    dx(0, kCars) = 1.0;
+    dx(kCars, kCars) = -u[1];
+    ju[0 * kDim + kCars] = -1.0;
+    ju[1 * kDim + kCars] = -x[kCars];
+    for (int i = 1; i < kCars; ++i) {
+      switch (follower(q, i)) {
+        case Follower::chasing: dx(i, kCars + i) = -1.0; break;
+        case Follower::keeping: dx(i, kCars + i) = keeping_sign_; break;
+        case Follower::braking: dx(i, kCars + i) = -1.0; dx(kCars + i, kCars + i) = -1.0; break;
+      }
+    }
+  }
   int guard_count(Mode) const { return 2 * (kCars - 1); }
   double guard(Mode q, int k, const double* x, const double*) const {
     const int i = 1 + k / 2;  // follower (0-based car index)

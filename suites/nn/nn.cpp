@@ -149,6 +149,18 @@ class Nn : public TimedModel<Nn> {
     dx[kRefClock] = 1.0;
   }
 
+  // ∂flow/∂x and ∂flow/∂u (TangentModel, core/simulate/tangent_model.hpp), from flow above.
+  void flow_jacobian(Mode, const double* x, const double*, const double*, double* jx, double* ju) const {
+    std::fill(jx, jx + kDim * kDim, 0.0);
+    std::fill(ju, ju + kDim, 0.0);
+    const double i = x[kCur];
+    jx[kVel * kDim + kPos] = 1.0;
+    jx[kPos * kDim + kVel] = -15.0 * i * std::abs(i) / 3.0 / (x[kPos] * x[kPos]);
+    jx[kVel * kDim + kVel] = -12.0 / 3.0;
+    jx[kCur * kDim + kVel] = 15.0 * 2.0 * std::abs(i) / 3.0 / x[kPos];
+    ju[kRefAcc] = 1.0;
+  }
+
   // 0, 1: the input changed since the last zeroing of (A, r); 2: the controller's tick.
   int guard_count(Mode) const { return 3; }
   double guard(Mode, int k, const double* x, const double* u, const double*) const {

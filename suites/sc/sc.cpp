@@ -119,6 +119,12 @@ double lookup(const std::array<double, 7>& table, double p) {
   return table[i] + (table[i + 1] - table[i]) * (p - sc::kTableP[i]) / (sc::kTableP[i + 1] - sc::kTableP[i]);
 }
 
+// The slope of lookup's segment at p.
+double lookup_slope(const std::array<double, 7>& table, double p) {
+  const auto i = static_cast<std::size_t>(std::min(std::max(0.0, (p - 50.0) / 10.0), 5.0));
+  return (table[i + 1] - table[i]) / (sc::kTableP[i + 1] - sc::kTableP[i]);
+}
+
 double tansig(double n) { return 2.0 / (1.0 + std::exp(-2.0 * n)) - 1.0; }
 
 class Sc : public TimedModel<Sc> {
@@ -164,6 +170,60 @@ class Sc : public TimedModel<Sc> {
       dx[kD4 + i] = x[kD1 + i] - sc::kLagPole * x[kD4 + i];
     }
     dx[kTime] = 1.0;
+  }
+
+  // ∂flow/∂x and ∂flow/∂u (TangentModel, core/simulate/tangent_model.hpp), from flow above by the
+  // chain rule; the clamp of the command and the tables differentiated on the branch taken.
+  void flow_jacobian(Mode q, const double* x, const double* u, const double*, double* jx, double* ju) const {
+    std::fill(jx, jx + kDim * kDim, 0.0);
+    std::fill(ju, ju + kDim, 0.0);
+    auto d = [&](int row, int state) -> double& { return jx[state * kDim + row]; };
+    // The network: a_i = tansig(n_i), n_i = IW_i p(Pm) + B1_i + Σ_j LW_ij d_j; tansig' = 1 − a².
+    double a[3];
+    const double net = network(q, x, a);
+    const double dp = 2.0 / (sc::kInMax - sc::kInMin);  // ∂p/∂Pm
+    const double out_scale = (sc::kOutMax - sc::kOutMin) / 2.0;
+    const double raw = net + sc::kFcw0;
+    const double dcommand = raw < sc::kSatLo || raw > sc::kSatHi ? 0.0 : 1.0;
+    for (int i = 0; i < 3; ++i) {
+      const double da = 1.0 - a[i] * a[i];
+      // dD_{i+1} = a_i − 10 d_{i+1}; dFcw = (command − Fcw)/τ with command = scale Σ LW2_i a_i + ….
+      d(kD1 + i, kPm) += da * sc::kIW[i] * dp;
+      d(kFcw, kPm) += dcommand * out_scale * sc::kLW2[i] * da * sc::kIW[i] * dp / sc::kTau;
+      for (int j = 0; j < 6; ++j) {
+        d(kD1 + i, kD1 + j) += da * sc::kLW[i][j];
+        d(kFcw, kD1 + j) += dcommand * out_scale * sc::kLW2[i] * da * sc::kLW[i][j] / sc::kTau;
+      }
+      d(kD1 + i, kD1 + i) -= sc::kLagPole;
+      d(kD4 + i, kD1 + i) = 1.0;
+      d(kD4 + i, kD4 + i) = -sc::kLagPole;
+    }
+    d(kFcw, kFcw) = -1.0 / sc::kTau;
+    // Q = dtm / den, dtm = (T − Tcw) / L, L = ln((tc − Tcw) / (tc − T)), den = Ua1 Fcw^−0.8 + Ua2.
+    const double tc = lookup(sc::kTableTc, x[kP]), dtc = lookup_slope(sc::kTableTc, x[kP]);
+    const double lambda = lookup(sc::kTableLambda, x[kP]), dlambda = lookup_slope(sc::kTableLambda, x[kP]);
+    const double big_l = std::log((tc - sc::kTcw) / (tc - x[kT]));
+    const double l_t = 1.0 / (tc - x[kT]), l_tc = 1.0 / (tc - sc::kTcw) - 1.0 / (tc - x[kT]);
+    const double dtm = (x[kT] - sc::kTcw) / big_l;
+    const double dtm_t = 1.0 / big_l - (x[kT] - sc::kTcw) * l_t / (big_l * big_l);
+    const double dtm_tc = -(x[kT] - sc::kTcw) * l_tc / (big_l * big_l);
+    const double den = sc::kUa1 * std::pow(x[kFcw], -0.8) + sc::kUa2;
+    const double den_f = -0.8 * sc::kUa1 * std::pow(x[kFcw], -1.8);
+    const double q_duty = dtm / den;
+    const double q_t = dtm_t / den, q_p = dtm_tc * dtc / den, q_f = -dtm * den_f / (den * den);
+    // dP = (R/V) (u − Q/λ) tc.
+    const double rv = sc::kR / sc::kV;
+    d(kP, kP) = rv * ((-q_p / lambda + q_duty * dlambda / (lambda * lambda)) * tc + (u[0] - q_duty / lambda) * dtc);
+    d(kP, kT) = rv * (-q_t / lambda) * tc;
+    d(kP, kFcw) = rv * (-q_f / lambda) * tc;
+    ju[kP] = rv * tc;
+    // dT = (Q/Cp + Fcw (Tcw − T)) / Mcw.
+    d(kT, kP) = q_p / sc::kCp / sc::kMcw;
+    d(kT, kT) = (q_t / sc::kCp - x[kFcw]) / sc::kMcw;
+    d(kT, kFcw) = (q_f / sc::kCp + sc::kTcw - x[kT]) / sc::kMcw;
+    // dPm = (P − Pm) / (τ/2).
+    d(kPm, kP) = 1.0 / (sc::kTau / 2.0);
+    d(kPm, kPm) = -1.0 / (sc::kTau / 2.0);
   }
 
   // Mode 0: the setpoint's step (header, 1). Mode 1 has no transition.
