@@ -5,7 +5,7 @@
 //   BM_GradientX: stl::RobustnessGradient::evaluate (the same trace, its tangents, ρ and ∂ρ/∂c).
 // Signals: uniformly random held control points of the suite's δt over the requirement's horizon
 // (AT1: 20 pieces of 1 s × 2 inputs = 40 variables; CC5: 20 pieces of 5 s × 2; SC: 175 pieces of
-// 0.2 s × 1; NN: 13 pieces of 3 s × 1).
+// 0.2 s × 1; NN: 13 pieces of 3 s × 1; F16: its three attitude parameters, one piece of 15 s).
 #include <cmath>
 #include <string>
 #include <utility>
@@ -53,15 +53,17 @@ void gradient(benchmark::State& state, const std::string& suite, const std::stri
   const Case c = make_case(suite, requirement);
   stl::RobustnessGradient g(*c.system, *c.system->info().requirement);
   std::vector<double> grad(c.pieces.size() * c.system->info().input_names.size());
+  // A suite searched over its parameters (F16's attitude): their slopes too, as the search asks.
+  std::vector<double> gp(c.system->info().parameter_box.has_width() ? c.system->info().parameters.size() : 0);
   // One evaluation first: a search reuses its simulator for every simulation, so the buffers' first
   // growth (NN's first trace records 30 MB: run_with_tangents) is not what a simulation costs.
-  double rho = g.evaluate(c.pieces, c.weights, c.pieces.size(), c.system->info().parameters, grad);
+  double rho = g.evaluate(c.pieces, c.weights, c.pieces.size(), c.system->info().parameters, grad, gp);
   for (auto _ : state) {
-    rho = g.evaluate(c.pieces, c.weights, c.pieces.size(), c.system->info().parameters, grad);
+    rho = g.evaluate(c.pieces, c.weights, c.pieces.size(), c.system->info().parameters, grad, gp);
     benchmark::DoNotOptimize(rho);
   }
   state.SetItemsProcessed(state.iterations());
-  state.counters["variables"] = static_cast<double>(grad.size());
+  state.counters["variables"] = static_cast<double>(grad.size() + gp.size());
   state.counters["robustness"] = rho;
 }
 
@@ -73,6 +75,8 @@ BENCHMARK_CAPTURE(plain, Sc, std::string("sc"), std::string("SC"))->Name("BM_Pla
 BENCHMARK_CAPTURE(gradient, Sc, std::string("sc"), std::string("SC"))->Name("BM_GradientSc")->MinTime(0.3);
 BENCHMARK_CAPTURE(plain, Nn, std::string("nn"), std::string("NN"))->Name("BM_PlainNn")->MinTime(0.3);
 BENCHMARK_CAPTURE(gradient, Nn, std::string("nn"), std::string("NN"))->Name("BM_GradientNn")->MinTime(0.3);
+BENCHMARK_CAPTURE(plain, F16, std::string("f16"), std::string("F16"))->Name("BM_PlainF16")->MinTime(0.3);
+BENCHMARK_CAPTURE(gradient, F16, std::string("f16"), std::string("F16"))->Name("BM_GradientF16")->MinTime(0.3);
 
 }  // namespace
 }  // namespace hyfal::bench

@@ -401,10 +401,13 @@ suite's signals (None: the instance's requirement); trace a hyfal.Trace or a map
             const std::size_t m = info.input_names.size();
             const std::size_t points = static_cast<std::size_t>(py::len(times));
             std::vector<double> g(points * m);
+            // A suite searched over its parameters (f16's attitude): their slopes too.
+            const bool parameters = info.parameter_box.has_width();
+            std::vector<double> gp(parameters ? info.parameters.size() : 0);
             const double rho = run_released<double>([&](std::stop_token stop) {
               stl::RobustnessGradient gradient(*s.system, r);
               gradient.simulator().set_interrupt({std::chrono::steady_clock::time_point::max(), stop});
-              return gradient.evaluate(pieces, weights, points, info.parameters, g);
+              return gradient.evaluate(pieces, weights, points, info.parameters, g, gp);
             });
             const auto column = [&](std::size_t j) {
               py::array_t<double> a(static_cast<py::ssize_t>(points));
@@ -419,12 +422,14 @@ suite's signals (None: the instance's requirement); trace a hyfal.Trace or a map
             } else {
               for (std::size_t j = 0; j < m; ++j) grad[py::str(info.input_names[j])] = column(j);
             }
+            for (std::size_t j = 0; j < gp.size(); ++j) grad[py::str(info.parameter_names[j])] = gp[j];
             return py::make_tuple(rho, grad);
           },
           py::arg("requirement"), py::arg("inputs"), py::arg("times"), py::kw_only(), py::arg("interpolation") = "zoh",
           R"doc(rho(requirement, 0) of the simulation of an input signal and its gradient: returns (rho, grad), grad a
-dict input -> array of d rho / d(value at each time), keyed as `inputs` is (by input name when it is an array;
-the parameters are not searched here), the shape of each input's values (under 'zoh' the last value
+dict input -> array of d rho / d(value at each time), keyed as `inputs` is (by input name when it is an array),
+and, on a suite searched over its parameters (f16's roll, pitch, yaw), parameter name -> d rho / d(its value)
+as a float (at the instance's values), the shape of each input's values (under 'zoh' the last value
 is unused: its derivative is 0). inputs, times and interpolation as simulate() takes them; requirement as
 robustness() takes it. rho is the exact robustness of the simulation (simulate()'s trace, bit for bit); the
 gradient comes from the model's own tangents, through every transition (the saltation of a state event),

@@ -278,6 +278,9 @@ class TangentPropagator {
   // Only variables [0, k) have a non-zero tangent so far (later control points are not yet
   // reached): their columns are propagated, the rest left at 0. Default: all P.
   virtual void set_active_variables(std::size_t k) = 0;
+  // Directions [first, first + count) move the system's parameters p_0 .. p_{count−1}, which the
+  // flow, guards, resets (F16's start jump) may read; the other directions move no parameter.
+  virtual void set_parameter_directions(std::size_t first, std::size_t count) = 0;
 };
 
 // The grid G of the coverage measure c(T, G) (seed 000 eq. II.1, seed 003 eq. 3): spacing δx

@@ -105,10 +105,12 @@ void SignalSimulations::simulate(SignalSlot& slot) const {
 void SignalSimulations::simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient,
                                                stl::CriticalPath path) const {
   const std::vector<stl::InputPiece>& pieces = driving_pieces(slot);
-  gradient.resize(control_points() * system_.info().input_names.size());
-  const double rho =
-      slot.monitor.robustness_gradient(slot.simulator, pieces, weights_, control_points(), slot.parameters, gradient,
-                                       path);
+  // Where P is searched, p's slopes first (the optimisers' order: signal_search.hpp's header).
+  const std::size_t np = searches_parameters() ? slot.parameters.size() : 0;
+  gradient.resize(np + control_points() * system_.info().input_names.size());
+  const std::span<double> all(gradient);
+  const double rho = slot.monitor.robustness_gradient(slot.simulator, pieces, weights_, control_points(),
+                                                      slot.parameters, all.subspan(np), path, all.first(np));
   finish(slot, slot.simulator.trace());
   if (!slot.interrupted && slot.problem.empty())
     slot.rho = rho;

@@ -105,7 +105,8 @@ class SignalSimulations {
   void simulate(SignalSlot& slot) const;
   // The same simulation with the gradient of its robustness (core/requirements/trace_monitor.hpp)
   // with respect to the signal's control points, into `gradient` in the order the slot holds them
-  // (constant: piece by piece; linear: `start`, then the end of each piece), input by input. One
+  // (constant: piece by piece; linear: `start`, then the end of each piece), input by input, after
+  // the slopes in p where P is searched (searches_parameters: F16's attitude). One
   // simulation, counted by account() as any other. Throws std::logic_error for a system without
   // tangents (InputSimulator::has_tangents).
   void simulate_with_gradient(SignalSlot& slot, std::vector<double>& gradient,

@@ -12,8 +12,10 @@ RobustnessGradient::RobustnessGradient(const System& system, const Requirement& 
 }
 
 double RobustnessGradient::evaluate(std::span<const InputPiece> pieces, std::span<const ControlWeights> weights,
-                                    std::size_t points, std::span<const double> p, std::span<double> gradient) {
-  return monitor_.robustness_gradient(simulator_, pieces, weights, points, p, gradient);
+                                    std::size_t points, std::span<const double> p, std::span<double> gradient,
+                                    std::span<double> parameter_gradient) {
+  return monitor_.robustness_gradient(simulator_, pieces, weights, points, p, gradient, CriticalPath::attaining,
+                                      parameter_gradient);
 }
 
 }  // namespace hyfal::stl

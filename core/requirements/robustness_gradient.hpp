@@ -1,5 +1,5 @@
 // RobustnessGradient: ρ of an input signal and its gradient with respect to the signal's control
-// points (and nothing else: the system's parameters are fixed), through the model's own dynamics.
+// points (and, when asked, the system's parameters), through the model's own dynamics.
 //
 // ρ is the exact robustness of the simulation (stl::InputSimulator's trace, bit for bit). Its
 // gradient is a subgradient: the monitor's critical samples (OfflineMonitor::critical_samples),
@@ -27,8 +27,9 @@ class RobustnessGradient {
   // ControlWeights) at parameters p; returns ρ and writes ∂ρ/∂c into gradient (points × m values,
   // point k's input j at k m + j). A trace that ends early (an invariant, a rejected step) is
   // judged as it ends, as the signal searches judge theirs.
+  // parameter_gradient (when not empty, p.size() values): ∂ρ/∂p as well (F16's attitude).
   double evaluate(std::span<const InputPiece> pieces, std::span<const ControlWeights> weights, std::size_t points,
-                  std::span<const double> p, std::span<double> gradient);
+                  std::span<const double> p, std::span<double> gradient, std::span<double> parameter_gradient = {});
   // The last evaluation's trace and simulator (its deadline: set_interrupt).
   const SimulatedTrace& trace() const { return simulator_.trace(); }
   InputSimulator& simulator() { return simulator_; }

@@ -46,12 +46,17 @@ Interval TraceMonitor::prefix_bounds(const SimulatedTrace& trace, std::size_t sa
 double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
                                          std::span<const ControlWeights> weights, std::size_t points,
                                          std::span<const double> p, std::span<double> gradient,
-                                         CriticalPath path) {
+                                         CriticalPath path, std::span<double> parameter_gradient) {
   const std::size_t vars = points * (pieces.empty() ? 0 : pieces[0].u.size());
   if (gradient.size() != vars)
     throw std::invalid_argument(
         fmt::format("robustness_gradient: room for {} values, {} expected", gradient.size(), vars));
+  if (!parameter_gradient.empty() && parameter_gradient.size() != p.size())
+    throw std::invalid_argument(fmt::format("robustness_gradient: room for {} parameter slopes, {} parameters",
+                                            parameter_gradient.size(), p.size()));
+  const bool parameters = !parameter_gradient.empty();
   std::fill(gradient.begin(), gradient.end(), 0.0);
+  std::fill(parameter_gradient.begin(), parameter_gradient.end(), 0.0);
   critical_.clear();
   keep_.clear();
   double rho = std::numeric_limits<double>::quiet_NaN();
@@ -61,8 +66,9 @@ double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<co
   // 24,000 samples of 155 numbers are 30 MB a simulation (121× a plain run kept, 23× in two
   // runs); CC5's 5,000 of 167 cost 3× a plain run in copies alone; AT1's 2,000 of 34 are cheap.
   constexpr std::size_t kRecordAtMost = std::size_t{1} << 18;  // numbers (2 MB)
-  const bool two_runs = last_samples_ * simulator.tangent_sample_size() > kRecordAtMost;
-  const SimulatedTrace& first = two_runs ? simulator.run(pieces, p) : simulator.run_with_tangents(pieces, weights, points, p);
+  const bool two_runs = last_samples_ * simulator.tangent_sample_size(parameters) > kRecordAtMost;
+  const SimulatedTrace& first =
+      two_runs ? simulator.run(pieces, p) : simulator.run_with_tangents(pieces, weights, points, p, {}, parameters);
   // A run the deadline cut short, or one that did not fit the system, stays as it is: no gradient.
   if (simulator.interrupted() || !first.problem.empty())
     return first.time.empty() ? rho : monitor_.robustness(view(first));
@@ -79,7 +85,7 @@ double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<co
   if (two_runs) {
     for (const SampleWeight& c : critical_) keep_.push_back(c.sample);
     keep_.erase(std::unique(keep_.begin(), keep_.end()), keep_.end());  // critical_ is sorted by sample
-    const SimulatedTrace& trace = simulator.run_with_tangents(pieces, weights, points, p, keep_);  // the same trace
+    const SimulatedTrace& trace = simulator.run_with_tangents(pieces, weights, points, p, keep_, parameters);
     if (simulator.interrupted() || trace.time.size() != samples) return rho;
   }
   terms_.clear();
@@ -90,7 +96,7 @@ double TraceMonitor::robustness_gradient(InputSimulator& simulator, std::span<co
     else
       terms_.push_back({signal, c.sample, c.weight});
   }
-  simulator.add_signal_tangents(terms_, gradient);
+  simulator.add_signal_tangents(terms_, gradient, parameter_gradient);
   return rho;
 }
 

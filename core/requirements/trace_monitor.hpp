@@ -52,9 +52,11 @@ class TraceMonitor {
   // long trace a plain run first and then one that keeps only the critical samples' tangents. NaN
   // and a zero gradient for a trace without samples.
   // path = every_blocking: a descent direction for falsification instead (CriticalPath).
+  // parameter_gradient (when not empty, p.size() values): ∂ρ/∂p as well.
   double robustness_gradient(InputSimulator& simulator, std::span<const InputPiece> pieces,
                              std::span<const ControlWeights> weights, std::size_t points, std::span<const double> p,
-                             std::span<double> gradient, CriticalPath path = CriticalPath::attaining);
+                             std::span<double> gradient, CriticalPath path = CriticalPath::attaining,
+                             std::span<double> parameter_gradient = {});
 
  private:
   // The requirement's signals of the trace's first `samples` samples (all: SIZE_MAX), as the

@@ -101,12 +101,14 @@ struct InputSimulator::Impl {
   bool interrupted = false;
   std::vector<std::vector<double>> outputs;
 
-  // Tangents (run_with_tangents): the propagator of the n + m directions of a piece (the state at
-  // its start, its input), the augmented input of the current piece, and every kept sample's z,
-  // mode and piece; each piece's S at its end (n × (n + m), the piece's transition and input
-  // matrices); the pieces' inputs, weights and end times, and p, for add_signal_tangents.
+  // Tangents (run_with_tangents): the propagator of a piece's directions [its input (m) | the
+  // parameters (np, when asked) | the state at its start (n)], the augmented input of the current
+  // piece, and every kept sample's z, mode and piece; each piece's S at its end (n × D, the
+  // piece's input, parameter and transition matrices); the pieces' inputs, weights and end times,
+  // and p, for add_signal_tangents.
   std::unique_ptr<TangentPropagator> tangent;
-  std::size_t directions = 0;
+  std::size_t directions = 0;       // D = m + np + n
+  std::size_t parameter_count = 0;  // np
   std::size_t variables = 0;
   std::vector<double> augmented_input;
   std::vector<double> sample_z;
@@ -118,10 +120,11 @@ struct InputSimulator::Impl {
   std::vector<ControlWeights> piece_weights;
   std::vector<double> piece_end;
   std::vector<double> parameters;
-  std::vector<double> scratch_x, scratch_u, scratch_y, scratch_y2, scratch_f, moving, row, piece_rows, adjoint;
+  std::vector<double> scratch_x, scratch_u, scratch_p, scratch_y, scratch_y2, scratch_f, moving, row, piece_rows,
+      adjoint;
 
-  // ∂(signal at sample)/∂[the state at the sample's piece's start | that piece's input] into row
-  // (n + m values).
+  // ∂(signal at sample)/∂[the sample's piece's input | p | the state at that piece's start] into
+  // row (D values).
   void sample_row(std::size_t signal, std::size_t sample, std::vector<double>& row);
 
   const SimulatedTrace& run_model(std::span<const InputPiece> pieces, std::span<const double> p);
@@ -274,15 +277,17 @@ bool InputSimulator::has_tangents() const {
 
 std::size_t InputSimulator::variables() const { return impl_->variables; }
 
-std::size_t InputSimulator::tangent_sample_size() const {
+std::size_t InputSimulator::tangent_sample_size(bool parameters) const {
   const SystemInfo& info = impl_->system.info();
-  const std::size_t n = info.initial_state.size(), dirs = n + info.input_names.size();
+  const std::size_t n = info.initial_state.size();
+  const std::size_t dirs = n + info.input_names.size() + (parameters ? info.parameters.size() : 0);
   return n * (1 + dirs) + dirs;
 }
 
 const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPiece> pieces,
                                                         std::span<const ControlWeights> weights, std::size_t points,
-                                                        std::span<const double> p, std::span<const std::size_t> keep) {
+                                                        std::span<const double> p, std::span<const std::size_t> keep,
+                                                        bool parameters) {
   Impl& d = *impl_;
   d.check_pieces(pieces);
   if (weights.size() != pieces.size())
@@ -294,15 +299,17 @@ const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPie
   if (d.model) throw std::logic_error("a model known only by its simulations has no tangents");
   const SystemInfo& info = d.system.info();
   const std::size_t m = info.input_names.size(), n = info.initial_state.size();
-  const std::size_t dirs = n + m;
+  const std::size_t np = parameters ? p.size() : 0;
+  const std::size_t dirs = m + np + n;
   if (!d.tangent || d.directions != dirs) {
     d.tangent = d.system.make_tangent_propagator(dirs);
     d.directions = dirs;
     if (d.tangent) d.tangent->propagator().set_interrupt(d.interrupt);
   }
   if (!d.tangent) throw std::logic_error("this system has no tangents (gradients need a model integrated by RK4)");
+  d.tangent->set_parameter_directions(m, np);
+  d.parameter_count = np;
   d.variables = points * m;
-  d.tangent->set_active_variables(dirs);
   d.clear_trace();
   d.sample_z.clear();
   d.sample_slot.clear();
@@ -323,21 +330,26 @@ const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPie
   TangentSamples sink(signals, d.trace.time, n, keep, d.sample_z, d.sample_slot, d.sample_mode, d.sample_piece);
   d.x.assign(n * (1 + dirs) + dirs, 0.0);
   std::copy(info.initial_state.begin(), info.initial_state.end(), d.x.begin());
-  // U: direction n + j moves input j by one; the state directions move no input.
+  // U: direction j < m moves input j by one; the others move no input.
   d.augmented_input.assign(m * (1 + dirs), 0.0);
-  for (std::size_t j = 0; j < m; ++j) d.augmented_input[m + (n + j) * m + j] = 1.0;
+  for (std::size_t j = 0; j < m; ++j) d.augmented_input[m + j * m + j] = 1.0;
+  // The first piece starts from the fixed initial state: its state directions are not propagated.
+  d.tangent->set_active_variables(m + np);
   std::size_t last = SIZE_MAX;
   d.drive(d.tangent->propagator(), sink, signals, pieces, p, [&](std::size_t k) {
     if (k != last) {
-      // The previous piece's end: keep its S. Then restart the directions: S = [I | 0], and T = 0
-      // (a piece's start time is fixed).
+      // The previous piece's end: keep its S. Then restart the directions: S = [0 | 0 | I], and
+      // T = 0 (a piece's start time is fixed).
       const auto s = d.x.begin() + static_cast<std::ptrdiff_t>(n);
-      if (last != SIZE_MAX) d.piece_end_s.insert(d.piece_end_s.end(), s, s + static_cast<std::ptrdiff_t>(n * dirs));
+      if (last != SIZE_MAX) {
+        d.piece_end_s.insert(d.piece_end_s.end(), s, s + static_cast<std::ptrdiff_t>(n * dirs));
+        d.tangent->set_active_variables(dirs);
+      }
       last = k;
       sink.set_piece(static_cast<std::uint32_t>(k));
       std::copy(pieces[k].u.begin(), pieces[k].u.end(), d.augmented_input.begin());
       std::fill(s, d.x.end(), 0.0);
-      for (std::size_t i = 0; i < n; ++i) s[static_cast<std::ptrdiff_t>(i * n + i)] = 1.0;
+      for (std::size_t i = 0; i < n; ++i) s[static_cast<std::ptrdiff_t>((m + np + i) * n + i)] = 1.0;
     }
     return std::span<const double>(d.augmented_input);
   });
@@ -347,6 +359,7 @@ const SimulatedTrace& InputSimulator::run_with_tangents(std::span<const InputPie
 void InputSimulator::Impl::sample_row(std::size_t signal, std::size_t sample, std::vector<double>& out) {
   const SystemInfo& info = system.info();
   const std::size_t m = info.input_names.size(), n = info.initial_state.size(), dirs = directions;
+  const std::size_t np = parameter_count;
   const std::size_t outputs = info.outputs.size();
   const std::size_t samples = sample_mode.size();
   const std::size_t dz = n * (1 + dirs) + dirs;
@@ -356,7 +369,7 @@ void InputSimulator::Impl::sample_row(std::size_t signal, std::size_t sample, st
   const std::size_t piece = sample_piece[sample];
   const std::vector<double>& u = piece_u.empty() ? no_input : piece_u[piece];
   if (signal >= outputs && signal < outputs + m) {  // an input: its own direction
-    if (!piece_u.empty()) out[n + signal - outputs] = 1.0;
+    if (!piece_u.empty()) out[signal - outputs] = 1.0;
     return;
   }
   // The time tangent of the sample: T, unless it stands at its piece's end (a fixed time); the
@@ -405,18 +418,38 @@ void InputSimulator::Impl::sample_row(std::size_t signal, std::size_t sample, st
       scratch_u[j] = u[j] - h;
       const double b = value(scratch_y2);
       scratch_u[j] = u[j];
-      out[n + j] += difference_quotient(b, y0, a, h);
+      out[j] += difference_quotient(b, y0, a, h);
     }
+  // The signal's own slope in p (F16's outputs read the attitude p in its start mode).
+  scratch_p = parameters;
+  for (std::size_t j = 0; j < np; ++j) {
+    const double h = difference_step(parameters[j]);
+    auto at = [&](double pj, std::vector<double>& y) {
+      scratch_p[j] = pj;
+      const double r = signal == outputs + m
+                           ? system.spec(q, scratch_x, scratch_p)
+                           : (system.outputs(q, scratch_x, scratch_u, scratch_p, y), y[signal]);
+      scratch_p[j] = parameters[j];
+      return r;
+    };
+    const double a = at(parameters[j] + h, scratch_y), b = at(parameters[j] - h, scratch_y2);
+    out[m + j] += difference_quotient(b, y0, a, h);
+  }
 }
 
-void InputSimulator::add_signal_tangents(std::span<const SignalTerm> terms, std::span<double> out) {
+void InputSimulator::add_signal_tangents(std::span<const SignalTerm> terms, std::span<double> out,
+                                         std::span<double> parameters_out) {
   Impl& d = *impl_;
   const SystemInfo& info = d.system.info();
   const std::size_t m = info.input_names.size(), n = info.initial_state.size(), dirs = d.directions;
+  const std::size_t np = d.parameter_count;
   const std::size_t samples = d.sample_mode.size();
   if (out.size() != d.variables)
     throw std::invalid_argument(
         fmt::format("signal tangents: room for {} values, {} variables", out.size(), d.variables));
+  if (!parameters_out.empty() && parameters_out.size() != np)
+    throw std::invalid_argument(fmt::format("signal tangents: room for {} parameter slopes, {} run with tangents",
+                                            parameters_out.size(), np));
   std::size_t last_piece = 0;
   for (const SignalTerm& t : terms) {
     if (t.sample >= samples || t.signal > info.outputs.size() + m)
@@ -426,8 +459,8 @@ void InputSimulator::add_signal_tangents(std::span<const SignalTerm> terms, std:
       throw std::logic_error(fmt::format("signal tangents: sample {} was not kept by run_with_tangents", t.sample));
     last_piece = std::max<std::size_t>(last_piece, d.sample_piece[t.sample]);
   }
-  if (terms.empty() || d.piece_weights.empty()) return;  // no input pieces: nothing depends on a control point
-  // Each piece's terms, with respect to [its start state | its input].
+  if (terms.empty()) return;
+  // Each piece's terms, with respect to [its input | p | its start state].
   d.piece_rows.assign((last_piece + 1) * dirs, 0.0);
   for (const SignalTerm& t : terms) {
     d.sample_row(t.signal, t.sample, d.row);
@@ -435,7 +468,7 @@ void InputSimulator::add_signal_tangents(std::span<const SignalTerm> terms, std:
     for (std::size_t v = 0; v < dirs; ++v) acc[v] += t.weight * d.row[v];
   }
   // Backwards over the pieces: λ, the derivative with respect to the state at the next piece's
-  // start (this piece's end), reaches this piece's start state and input through S at its end.
+  // start (this piece's end), reaches this piece's input, p and start state through S at its end.
   d.adjoint.assign(n, 0.0);
   for (std::size_t k = last_piece + 1; k-- > 0;) {
     double* acc = d.piece_rows.data() + k * dirs;
@@ -447,11 +480,14 @@ void InputSimulator::add_signal_tangents(std::span<const SignalTerm> terms, std:
         acc[v] += a;
       }
     }
-    std::copy(acc, acc + n, d.adjoint.begin());
+    std::copy(acc + m + np, acc + dirs, d.adjoint.begin());
+    if (!parameters_out.empty())
+      for (std::size_t j = 0; j < np; ++j) parameters_out[j] += acc[m + j];
+    if (d.piece_weights.empty()) continue;  // no input pieces: no control point
     const ControlWeights& w = d.piece_weights[k];
     for (std::size_t j = 0; j < m; ++j) {
-      out[w.point * m + j] += w.here * acc[n + j];
-      if (w.next != 0.0) out[(w.point + 1) * m + j] += w.next * acc[n + j];
+      out[w.point * m + j] += w.here * acc[j];
+      if (w.next != 0.0) out[(w.point + 1) * m + j] += w.next * acc[j];
     }
   }
 }

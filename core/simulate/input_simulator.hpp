@@ -39,21 +39,24 @@ class InputSimulator {
   // for, in increasing order (empty: every one); only theirs are recorded.
   //
   // How (core/simulate/tangent_model.hpp propagates the tangents): within each input piece, the
-  // tangents of the n + m directions [the state at the piece's start | the piece's input], restarted
-  // at every piece (S = [I | 0], T = 0); at each piece's end, S is kept (that piece's transition
-  // and input matrices). A sample's derivative with respect to the control points is then the
+  // tangents of the directions [the piece's input (m) | p (with parameters) | the state at the
+  // piece's start (n; not in the first piece, whose start is fixed)], restarted at every piece
+  // (S = [0 | 0 | I], T = 0); at each piece's end, S is kept (that piece's input, parameter and
+  // transition matrices). A sample's derivative with respect to the control points is then the
   // chain of these matrices back to the first piece, which add_signal_tangents runs once for all
   // its terms, backwards (an adjoint over the pieces). So the cost is that of n + m tangents,
   // whatever the number of control points (SC: 5 directions for 175 points).
+  // parameters: also the derivatives with respect to p (add_signal_tangents' parameters_out).
   const SimulatedTrace& run_with_tangents(std::span<const InputPiece> pieces, std::span<const ControlWeights> weights,
                                           std::size_t points, std::span<const double> p,
-                                          std::span<const std::size_t> keep = {});
+                                          std::span<const std::size_t> keep = {}, bool parameters = false);
   // Whether the system propagates tangents (an RK4 model; not a black box).
   bool has_tangents() const;
   // The search variables of the last run_with_tangents.
   std::size_t variables() const;
-  // The numbers run_with_tangents records at a kept sample (n (1 + n + m) + n + m).
-  std::size_t tangent_sample_size() const;
+  // The numbers run_with_tangents records at a kept sample (n (1 + D) + D, D = m + n, + the
+  // parameters' count with parameters).
+  std::size_t tangent_sample_size(bool parameters = false) const;
   // One term of a derivative: `weight` × signal `signal` (system_signals order) at sample `sample`.
   struct SignalTerm {
     std::size_t signal = 0;
@@ -66,8 +69,10 @@ class InputSimulator {
   // (tangent_model.hpp), as a finite difference of the simulation sees it. Output and safety slopes
   // are central differences of M::outputs and M::spec at the sample. Throws std::invalid_argument
   // for a signal or sample out of range or a wrong size of out, std::logic_error for a sample
-  // run_with_tangents did not keep.
-  void add_signal_tangents(std::span<const SignalTerm> terms, std::span<double> out);
+  // run_with_tangents did not keep. parameters_out (when not empty; after a run with parameters):
+  // the same sums' derivatives with respect to each parameter, added to.
+  void add_signal_tangents(std::span<const SignalTerm> terms, std::span<double> out,
+                           std::span<double> parameters_out = {});
   // The derivative of one signal at one sample (out: variables() values, overwritten).
   void signal_tangent(std::size_t signal, std::size_t sample, std::span<double> out);
   // The last run's trace (empty before the first).

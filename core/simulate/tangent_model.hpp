@@ -13,7 +13,9 @@
 //    slope of the branch the point is on at a kink, as automatic differentiation gives it), else
 //    central differences of its flow (difference_quotient.hpp), columns the model declares unread
 //    (M::flow_unread) skipped, rows from M::flowing_dim on zero. Differences cost 2 (n + m) flows
-//    a stage: AT's 8 and CC's 14 were most of a gradient's cost (perf, issue 55).
+//    a stage: AT's 8 and CC's 14 were most of a gradient's cost (perf, issue 55). With fewer
+//    directions than the Jacobian has columns (F16: 3 against 19), the difference of the flow
+//    along each direction instead (2 flows a direction).
 //  - A located event of guard g at time τ (the propagator takes it at the bracket's left end, where
 //    g <= 0): τ moves with the inputs, ∂τ/∂c_v = −(g_x S_v + g_u U_v) / (g_x f⁻), which is stored in
 //    T_v. Then with R the reset and f⁺ the flow in the next mode at the reset state,
@@ -22,6 +24,11 @@
 //    one a new input piece enables at once) happens at the time the state stands at, whose tangent
 //    is the current T: the same formula with T unchanged (at an input piece's start T is 0, and
 //    the formula reduces to S⁺ = R_x S).
+//  - Parameter directions (set_parameters: direction first + j moves parameter p_j): their
+//    columns also get f_p (dS_v += f_p e_j, central differences of the flow in p, skipped where
+//    the model declares `static constexpr bool flow_reads_parameters = false`), the guard's g_p
+//    in ∂τ/∂c, and the reset's R_p after the saltation (S⁺_v += R_p e_j): F16's attitude, which
+//    its start jump sets from p.
 //  - Time-triggered transitions (a controller's tick: a clock reaching a threshold) need nothing
 //    of their own: the clock's tangent is 0, so ∂τ/∂c is 0.
 //  - S holds the tangent at a fixed time. A sample taken at a time that moves (after an event,
@@ -81,9 +88,18 @@ class TangentModel {
     nonzero_.reserve(n_ * (n_ + m_));
     if constexpr (requires { M::flow_unread; })
       for (int i : M::flow_unread) unread_[static_cast<std::size_t>(i)] = 1;
+    jacobian_columns_ = m_;
+    for (char unread : unread_) jacobian_columns_ += unread ? 0 : 1;
   }
 
   void set_active(std::size_t k) { active_ = std::min(k, vars_); }
+  // Directions [first, first + count) move the parameters p_0 .. p_{count−1} (none: count 0).
+  void set_parameters(std::size_t first, std::size_t count) {
+    pfirst_ = first;
+    pcount_ = count;
+    pcopy_.resize(count);
+    pcol_.resize(n_ * count);
+  }
   std::size_t state_dim() const { return n_; }
   std::size_t variables() const { return vars_; }
 
@@ -122,6 +138,14 @@ class TangentModel {
     double* ds = dz + n_;
     std::fill(ds, dz + dim(), 0.0);
     if (active_ == 0) return;
+    if constexpr (!ModelWithJacobian<M>) {
+      // Few directions (F16's three attitude directions against its 19 states): a difference along
+      // each direction costs 2 flows, the Jacobian's columns 2 (read states + inputs) flows.
+      if (active_ < jacobian_columns_) {
+        directional(q, z, v, p, dz);
+        return;
+      }
+    }
     flow_jacobian(q, z, v, p, dz);
     // The Jacobians' non-zero entries, once per stage: a model's are sparse (CC: 14 of 143), and
     // every active variable's column runs over them.
@@ -142,6 +166,13 @@ class TangentModel {
       for (std::size_t e = 0; e < state_entries; ++e) out[nonzero_[e].row] += nonzero_[e].value * sw[nonzero_[e].col];
       for (std::size_t e = state_entries; e < nonzero_.size(); ++e)
         out[nonzero_[e].row] += nonzero_[e].value * uw[nonzero_[e].col];
+    }
+    if constexpr (kFlowReadsParameters) {
+      if (pcount_ == 0 || active_ <= pfirst_) return;
+      parameter_columns(p, [&](double* pp) { model_.flow(q, z, v, pp, fp_.data()); },
+                        [&](double* pp) { model_.flow(q, z, v, pp, fm_.data()); }, dz, fp_, fm_, rows_);
+      for (std::size_t j = 0; j < pcount_ && pfirst_ + j < active_; ++j)
+        for (std::size_t r = 0; r < rows_; ++r) ds[(pfirst_ + j) * n_ + r] += pcol_[j * n_ + r];
     }
   }
 
@@ -170,16 +201,29 @@ class TangentModel {
       }
       if (std::abs(denom) <= 1e-6 * gx_norm * f_norm) denom = 0.0;  // 1e-6: past the differences' error in g_x
       const double* uu = v + m_;
+      if (pcount_ > 0) guard_parameter_slopes(q, k, xs_.data(), v, p);
       for (std::size_t w = 0; w < active_; ++w) {
         double num = 0.0;
         for (std::size_t i = 0; i < n_; ++i) num += gx_[i] * s[w * n_ + i];
         if constexpr (kInputGuards)
           for (std::size_t j = 0; j < m_; ++j) num += gu_[j] * uu[w * m_ + j];
+        if (w >= pfirst_ && w < pfirst_ + pcount_) num += gp_[w - pfirst_];
         if (denom != 0.0) tt[w] = -num / denom;
       }
     }
     const Mode next = model_.jump(q, k, z, p);  // x⁺ in place
     if (active_ == 0) return next;
+    // R_p (before jr, which shares col_): the reset of x⁻ at p ± h_j, column by column.
+    if (pcount_ > 0 && active_ > pfirst_) {
+      auto reset_into = [&](std::vector<double>& out) {
+        return [&, out_ptr = &out](double* pp) {
+          col_ = xs_;
+          (void)model_.jump(q, k, col_.data(), pp);
+          std::copy(col_.begin(), col_.end(), out_ptr->begin());
+        };
+      };
+      parameter_columns(p, reset_into(fp_), reset_into(fm_), z, fp_, fm_, n_);
+    }
     // R_x by central differences of the reset, column by column.
     std::vector<double>& jr = jx_;  // the flow's Jacobian is rebuilt at the next stage anyway
     for (std::size_t i = 0; i < n_; ++i) {
@@ -208,6 +252,8 @@ class TangentModel {
       for (std::size_t i = 0; i < n_; ++i) col_[i] = sw[i] + f0_[i] * tw;  // S + f⁻ T
       for (std::size_t r = 0; r < n_; ++r) sw[r] = -f1_[r] * tw;
       for (const Entry& e : nonzero_) sw[e.row] += e.value * col_[e.col];
+      if (w >= pfirst_ && w < pfirst_ + pcount_)
+        for (std::size_t r = 0; r < n_; ++r) sw[r] += pcol_[(w - pfirst_) * n_ + r];  // + R_p e_j
     }
     return next;
   }
@@ -267,6 +313,72 @@ class TangentModel {
       for (std::size_t r = 0; r < rows_; ++r) col[r] = difference_quotient(fm_[r], f0[r], fp_[r], h);
     }
   }
+  // ds_w = f_x S_w + f_u U_w (+ f_p e_j for parameter direction j) as the central difference of
+  // the flow along (S_w, U_w, e_j), with a step that moves each number by about 1e-7 of its size
+  // (difference_quotient.hpp: the branch the point is on at a kink).
+  void directional(Mode q, const double* z, const double* v, const double* p, double* dz) const {
+    const double* s = z + n_;
+    const double* uu = v + m_;
+    double* ds = dz + n_;
+    for (std::size_t w = 0; w < active_; ++w) {
+      const double* sw = s + w * n_;
+      const double* uw = uu + w * m_;
+      const bool parameter = kFlowReadsParameters && w >= pfirst_ && w < pfirst_ + pcount_;
+      double scale = 0.0;
+      for (std::size_t i = 0; i < n_; ++i) scale = std::max(scale, std::abs(sw[i]) / std::max(1.0, std::abs(z[i])));
+      for (std::size_t j = 0; j < m_; ++j) scale = std::max(scale, std::abs(uw[j]) / std::max(1.0, std::abs(v[j])));
+      if (parameter) scale = std::max(scale, 1.0 / std::max(1.0, std::abs(p[w - pfirst_])));
+      if (scale == 0.0) continue;  // nothing moves along w: its tangent stays
+      const double h = 1e-7 / scale;
+      const double* pp = p;
+      if (parameter) std::copy(p, p + pcount_, pcopy_.begin());
+      for (int side : {1, -1}) {
+        for (std::size_t i = 0; i < n_; ++i) xs_[i] = z[i] + side * h * sw[i];
+        for (std::size_t j = 0; j < m_; ++j) us_[j] = v[j] + side * h * uw[j];
+        if (parameter) {
+          pcopy_[w - pfirst_] = p[w - pfirst_] + side * h;
+          pp = pcopy_.data();
+        }
+        model_.flow(q, xs_.data(), us_.data(), pp, side > 0 ? fp_.data() : fm_.data());
+      }
+      for (std::size_t r = 0; r < rows_; ++r) ds[w * n_ + r] = difference_quotient(fm_[r], dz[r], fp_[r], h);
+    }
+  }
+
+  // pcol_ (column j at pcol_[j n_]): the slope in p_j of a function of p whose value at p is
+  // `at` (rows values), by central differences: above(pp) writes the value at p + h e_j into
+  // `plus`, below(pp) the one at p − h e_j into `minus`.
+  template <class Above, class Below>
+  void parameter_columns(const double* p, Above&& above, Below&& below, const double* at, const std::vector<double>& plus,
+                         const std::vector<double>& minus, std::size_t rows) const {
+    std::copy(p, p + pcount_, pcopy_.begin());
+    for (std::size_t j = 0; j < pcount_; ++j) {
+      const double h = difference_step(p[j]);
+      pcopy_[j] = p[j] + h;
+      above(pcopy_.data());
+      pcopy_[j] = p[j] - h;
+      below(pcopy_.data());
+      pcopy_[j] = p[j];
+      for (std::size_t r = 0; r < rows; ++r) pcol_[j * n_ + r] = difference_quotient(minus[r], at[r], plus[r], h);
+      for (std::size_t r = rows; r < n_; ++r) pcol_[j * n_ + r] = 0.0;
+    }
+  }
+  // gp_: guard k's slopes in p at (q, x, u).
+  void guard_parameter_slopes(Mode q, int k, const double* x, const double* u, const double* p) const {
+    gp_.resize(pcount_);
+    const double g0 = guard_value(q, k, x, u, p);
+    std::copy(p, p + pcount_, pcopy_.begin());
+    for (std::size_t j = 0; j < pcount_; ++j) {
+      const double h = difference_step(p[j]);
+      pcopy_[j] = p[j] + h;
+      const double gp = guard_value(q, k, x, u, pcopy_.data());
+      pcopy_[j] = p[j] - h;
+      const double gm = guard_value(q, k, x, u, pcopy_.data());
+      pcopy_[j] = p[j];
+      gp_[j] = difference_quotient(gm, g0, gp, h);
+    }
+  }
+
   // gx_ and (input guards) gu_ of guard k at (q, x, u).
   void guard_gradient(Mode q, int k, const double* x, const double* u, const double* p) const {
     const double g0 = guard_value(q, k, x, u, p);
@@ -294,8 +406,18 @@ class TangentModel {
     }
   }
 
+  static constexpr bool kFlowReadsParameters = [] {
+    if constexpr (requires { M::flow_reads_parameters; })
+      return static_cast<bool>(M::flow_reads_parameters);
+    else
+      return true;
+  }();
+
   const M& model_;
   std::size_t n_, m_, vars_, active_, rows_;
+  std::size_t pfirst_ = 0, pcount_ = 0;
+  std::size_t jacobian_columns_ = 0;  // the differenced Jacobian's columns: read states and inputs
+  mutable std::vector<double> pcopy_, pcol_, gp_;
   std::vector<char> unread_;
   // Scratch (the wrapper belongs to one propagator, which one thread uses).
   mutable const double* u_ = nullptr;  // the propagation's augmented input (flow and guards see it)
@@ -315,6 +437,7 @@ class ModelTangentPropagator final : public TangentPropagator {
       : tangent_(model, inputs, variables), prop_(tangent_, settings) {}
   Propagator& propagator() override { return prop_; }
   void set_active_variables(std::size_t k) override { tangent_.set_active(k); }
+  void set_parameter_directions(std::size_t first, std::size_t count) override { tangent_.set_parameters(first, count); }
 
  private:
   TangentModel<M> tangent_;  // before prop_, which refers to it

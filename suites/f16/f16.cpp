@@ -136,6 +136,8 @@ class F16Gcas : public TimedModel<F16Gcas> {
   enum GcasMode : Mode { kStandby = 0, kRoll = 1, kPull = 2, kStart = 3 };
   static constexpr int kTime = 16, kClock = 17, kPullClock = 18, kDim = 19;
   static constexpr bool guards_affine = true;  // c - (T - lead)
+  // p enters through the start jump only (TangentModel: no differences of the flow in p).
+  static constexpr bool flow_reads_parameters = false;
 
   explicit F16Gcas(double horizon) : TimedModel(horizon, no_inputs(), 1e-9) {}
 

@@ -281,11 +281,12 @@ TEST_F(ExperimentCliTest, TheArchLeagueRunsEveryRowWithEveryMethod) {
   const std::vector<std::string> f = fields(counts.text);
   ASSERT_EQ(f.size(), 4u) << counts.text;
   // 7 rows (AT2, AT6a, CC1, ATc2, AFC29, NN, SC) x 10 columns x 2 runs, F16's 5 columns x 2, and
-  // the gradient column on the 6 of those rows with tangents (not AFC29, not F16) x 2.
-  EXPECT_EQ(f[0], "162");
+  // the gradient column on the 7 of those rows with tangents (not AFC29; F16 through its
+  // parameters' tangents) x 2.
+  EXPECT_EQ(f[0], "164");
   EXPECT_EQ(f[1], "10");  // RRT twice (guided; guided and refined)
-  // F16 has no inputs: the methods that search only input signals do not apply there; AFC's
-  // ROS34PW2 carries no tangents, so `gradient` does not apply there.
+  // F16 has no inputs: the methods that search only input signals do not apply there (gradient
+  // searches its parameters); AFC's ROS34PW2 carries no tangents, so `gradient` does not apply there.
   EXPECT_TRUE(contains(r.out, "| F16 (2338 ft) | f16 | n/a | n/a |")) << r;
   EXPECT_TRUE(contains(r.out, " | n/a |\n| NN | nn |")) << r;  // AFC29's gradient cell, the row before NN
   EXPECT_TRUE(contains(r.out, "| AFC29 | afc |")) << r;

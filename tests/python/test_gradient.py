@@ -56,3 +56,18 @@ def test_a_suite_without_tangents_is_refused_with_a_value_error():
     t = np.array([0.0, 25.0, 50.0])
     with pytest.raises(ValueError, match="no gradients"):
         s.robustness_gradient("AFC27", {"u1": np.array([10.0, 60.0, 60.0])}, t)
+
+
+def test_a_suite_searched_over_its_parameters_gives_their_slopes():
+    # F16 is searched over its initial attitude (roll, pitch, yaw): grad keys them as floats.
+    s = hyfal.Suite("f16")
+    rho, g = s.robustness_gradient("F16", {}, [0.0, 15.0])
+    assert set(g) == {"roll", "pitch", "yaw"}
+    assert g["yaw"] == 0.0  # the altitude does not read the heading
+    h = 1e-6
+    for name, nominal in [("roll", np.pi / 4), ("pitch", -0.4 * np.pi)]:
+        up = hyfal.Suite("f16", **{name: nominal + h})
+        down = hyfal.Suite("f16", **{name: nominal - h})
+        fd = (up.robustness("F16", up.simulate({}, [0.0, 15.0]))
+              - down.robustness("F16", down.simulate({}, [0.0, 15.0]))) / (2 * h)
+        assert g[name] == pytest.approx(fd, rel=1e-5), name

@@ -32,7 +32,7 @@ class GradientFalsifier final : public Planner {
   explicit GradientFalsifier(GradientOptions o) : o_(o) {}
 
   PlannerOutcome solve(const PlannerContext& ctx) override {
-    check_signal_system(ctx.system, o_.horizon, o_.shape, /*parameters=*/false);
+    check_signal_system(ctx.system, o_.horizon, o_.shape, /*parameters=*/true);
     SignalSimulations sims(ctx, o_.budget, signal_horizon(ctx.system, o_.horizon), o_.shape);
     Rng rng(ctx.seed);
     try {
@@ -44,14 +44,28 @@ class GradientFalsifier final : public Planner {
   }
 
  private:
-  // The slot's control points as one vector (the gradient's order: signal_search.hpp) and back.
-  static std::vector<double*> control_values(SignalSlot& slot, InputShape shape) {
+  // The search's variables as one vector, in the gradient's order (signal_search.hpp): p first
+  // where P is searched (F16's attitude), then the control points; and each one's bounds.
+  struct Variables {
     std::vector<double*> x;
+    std::vector<double> lo, hi;
+  };
+  static Variables variables(SignalSimulations& sims, SignalSlot& slot, InputShape shape) {
+    Variables v;
+    auto add = [&](double& value, double lo, double hi) {
+      v.x.push_back(&value);
+      v.lo.push_back(lo);
+      v.hi.push_back(hi);
+    };
+    if (sims.searches_parameters())
+      for (std::size_t j = 0; j < slot.parameters.size(); ++j)
+        add(slot.parameters[j], sims.parameter_box().lo[j], sims.parameter_box().hi[j]);
+    const Box& box = sims.input_box();
     if (shape == InputShape::linear)
-      for (double& u : slot.start) x.push_back(&u);
+      for (std::size_t j = 0; j < slot.start.size(); ++j) add(slot.start[j], box.lo[j], box.hi[j]);
     for (auto& piece : slot.pieces)
-      for (double& u : piece.u) x.push_back(&u);
-    return x;
+      for (std::size_t j = 0; j < piece.u.size(); ++j) add(piece.u[j], box.lo[j], box.hi[j]);
+    return v;
   }
 
   void search(SignalSimulations& sims, Rng& rng) const {
@@ -61,40 +75,36 @@ class GradientFalsifier final : public Planner {
       search_sqrt(sims, rng);
   }
 
-  // Moves x against the sign of g by η of each input's range, clamped to the box; false when
+  // Moves x against the sign of g by η of each variable's range, clamped to its bounds; false when
   // nothing moved.
-  bool sign_step(const std::vector<double*>& x, const std::vector<double>& g, double eta, const Box& box) const {
-    const std::size_t m = box.dim();
+  bool sign_step(const Variables& v, const std::vector<double>& g, double eta) const {
     bool moved = false;
     double largest = 0.0;
     if (o_.scaled)
-      for (std::size_t i = 0; i < x.size(); ++i)
-        if (std::isfinite(g[i])) largest = std::max(largest, std::abs(g[i]) * (box.hi[i % m] - box.lo[i % m]));
-    for (std::size_t i = 0; i < x.size(); ++i) {
+      for (std::size_t i = 0; i < v.x.size(); ++i)
+        if (std::isfinite(g[i])) largest = std::max(largest, std::abs(g[i]) * (v.hi[i] - v.lo[i]));
+    for (std::size_t i = 0; i < v.x.size(); ++i) {
       if (g[i] == 0.0 || !std::isfinite(g[i])) continue;
-      const std::size_t j = i % m;
-      const double range = box.hi[j] - box.lo[j];
+      const double range = v.hi[i] - v.lo[i];
       const double size = o_.scaled ? eta * range * (std::abs(g[i]) * range / largest) : eta * range;
-      const double next = std::clamp(*x[i] - std::copysign(size, g[i]), box.lo[j], box.hi[j]);
-      moved = moved || next != *x[i];
-      *x[i] = next;
+      const double next = std::clamp(*v.x[i] - std::copysign(size, g[i]), v.lo[i], v.hi[i]);
+      moved = moved || next != *v.x[i];
+      *v.x[i] = next;
     }
     return moved;
   }
 
-  static void randomize(const std::vector<double*>& x, const Box& box, Rng& rng) {
-    const std::size_t m = box.dim();
+  static void randomize(const Variables& v, Rng& rng) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (std::size_t i = 0; i < x.size(); ++i) *x[i] = box.lo[i % m] + unit(rng) * (box.hi[i % m] - box.lo[i % m]);
+    for (std::size_t i = 0; i < v.x.size(); ++i) *v.x[i] = v.lo[i] + unit(rng) * (v.hi[i] - v.lo[i]);
   }
 
   void search_sqrt(SignalSimulations& sims, Rng& rng) const {
     SignalSlot& slot = sims.slot(0);
-    const std::vector<double*> x = control_values(slot, o_.shape);
-    const Box& box = sims.input_box();
+    const Variables v = variables(sims, slot, o_.shape);
     std::vector<double> g;
     while (true) {
-      randomize(x, box, rng);
+      randomize(v, rng);
       double best = std::numeric_limits<double>::infinity();
       int stale = 0;
       for (int t = 1;; ++t) {
@@ -107,7 +117,7 @@ class GradientFalsifier final : public Planner {
         } else if (++stale >= o_.patience) {
           break;
         }
-        if (!sign_step(x, g, o_.eta / std::sqrt(static_cast<double>(t)), box)) break;
+        if (!sign_step(v, g, o_.eta / std::sqrt(static_cast<double>(t)))) break;
       }
     }
   }
@@ -116,11 +126,11 @@ class GradientFalsifier final : public Planner {
   // η halved; after `patience` halvings in a row, or when a step no longer moves, a restart.
   void search_halving(SignalSimulations& sims, Rng& rng) const {
     SignalSlot& slot = sims.slot(0);
-    const std::vector<double*> x = control_values(slot, o_.shape);
-    const Box& box = sims.input_box();
+    const Variables v = variables(sims, slot, o_.shape);
+    const std::vector<double*>& x = v.x;
     std::vector<double> g, best_g, best_x(x.size());
     while (true) {
-      randomize(x, box, rng);
+      randomize(v, rng);
       sims.check_budget();
       sims.simulate_with_gradient(slot, best_g, o_.path);
       double best = sims.account(slot);
@@ -129,7 +139,7 @@ class GradientFalsifier final : public Planner {
       int failed = 0;
       while (failed < o_.patience) {
         for (std::size_t i = 0; i < x.size(); ++i) *x[i] = best_x[i];
-        if (!sign_step(x, best_g, eta, box)) break;
+        if (!sign_step(v, best_g, eta)) break;
         sims.check_budget();
         // The plain simulation first: a step that does not lower ρ needs no gradient (the run with
         // tangents gives the same trace bit for bit, and is part of the one simulation counted).
@@ -154,7 +164,7 @@ class GradientFalsifier final : public Planner {
 
 void check_gradient_system(const System& system, const Json& options) {
   check_signal_system(system, options.at("horizon").get<double>(),
-                      input_shape_of(options.at("input_shape").get<std::string>()), /*parameters=*/false);
+                      input_shape_of(options.at("input_shape").get<std::string>()), /*parameters=*/true);
 }
 
 }  // namespace
@@ -194,7 +204,7 @@ MethodEntry gradient_method() {
           },
           check_gradient_system,
           /*searches_signals=*/true,
-          /*searches_parameters=*/false,
+          /*searches_parameters=*/true,
           /*needs_tangents=*/true};
 }
 
